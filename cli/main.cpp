@@ -1,0 +1,52 @@
+// marchcheck's command line: argument parsing only; the commands live in marchcheck::reports.
+#include "marchcheck/reports/commands.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <iostream>
+
+int main(int argc, char** argv) {
+  using namespace marchcheck::reports;
+  CLI::App app{"marchcheck: numerical validation of signed-distance-field ray marching"};
+  app.require_subcommand(1);
+
+  ScenesCommand scenes;
+  auto* scenes_cmd = app.add_subcommand("scenes", "List the built-in scenes, their SDF kind and Lipschitz bound");
+  scenes_cmd->add_flag("--json", scenes.json, "Print the list as JSON");
+  scenes_cmd->add_option("--export", scenes.export_name, "Print the named built-in scene as a scene file");
+
+  RenderCommand render;
+  auto* render_cmd = app.add_subcommand("render", "Render a scene (PNG: 8-bit sRGB, EXR: float) and its AOVs");
+  render_cmd->add_option("scene", render.scene, "Built-in scene name or scene file (.json)")->required();
+  render_cmd->add_option("-o,--output", render.output, "Output image (.png or .exr)");
+  render_cmd->add_option("--size", render.size, "Image size WIDTHxHEIGHT");
+  render_cmd->add_option("--aov", render.aovs, "Extra outputs: depth,normal,steps,evals,id");
+  render_cmd->add_option("--stats", render.stats, "Write the cost per stage as JSON");
+  render_cmd->add_option("--set", render.sets, "Override a scene or marching parameter KEY=VALUE (repeatable)");
+
+  std::string all_dir = "reports/out";
+  auto* all_cmd = app.add_subcommand("render-all", "Render every built-in scene into a folder");
+  all_cmd->add_option("-o,--output", all_dir, "Folder for the images");
+
+  const auto subcommands = app.get_subcommands({});
+  const bool known = argc > 1 && std::any_of(subcommands.begin(), subcommands.end(),
+                                             [&](const CLI::App* sub) { return sub->get_name() == argv[1]; });
+  if (argc > 1 && argv[1][0] != '-' && !known) {
+    std::cerr << "marchcheck: unknown command '" << argv[1] << "'; expected one of";
+    for (const auto* sub : subcommands) std::cerr << " " << sub->get_name();
+    std::cerr << "\n";
+    return 2;
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  }
+  if (*scenes_cmd) return run_scenes(scenes, std::cout, std::cerr);
+  if (*render_cmd) return run_render(render, std::cout, std::cerr);
+  return run_render_all(all_dir, std::cout, std::cerr);
+}

@@ -1,0 +1,45 @@
+// Cameras: pinhole by vertical field of view, pinhole by intrinsics with Brown-Conrady distortion, frustum-corner
+// interpolation, orthographic; look-at or orbit pose. Pixel (x, y) has its centre at (x + 0.5, y + 0.5), y down.
+#pragma once
+
+#include "marchcheck/sdf/scene.hpp"
+
+#include <glm/glm.hpp>
+
+#include <optional>
+
+namespace marchcheck::march {
+
+struct Ray {
+  glm::dvec3 origin;
+  glm::dvec3 direction;  // unit length
+};
+
+class Camera {
+ public:
+  Camera(const sdf::CameraSpec& spec, int width, int height);
+
+  // The ray through continuous pixel coordinates (px, py).
+  Ray ray(double px, double py) const;
+  // The continuous pixel coordinates a world point projects to; nullopt behind the camera.
+  std::optional<glm::dvec2> project(glm::dvec3 world) const;
+
+  glm::dvec3 eye() const { return eye_; }
+  glm::dvec3 forward() const { return forward_; }
+  // A pixel's radius at distance t along a ray: footprint_at_0 + footprint_slope * t.
+  double footprint_at_0() const;
+  double footprint_slope() const;
+  // The vertical field of view the generated rays really span, in degrees (orthographic: 0).
+  double measured_vertical_fov_deg() const;
+
+ private:
+  glm::dvec2 distort(glm::dvec2 undistorted) const;
+  glm::dvec2 undistort(glm::dvec2 distorted) const;
+
+  sdf::CameraSpec spec_;
+  int width_, height_;
+  glm::dvec3 eye_, right_, up_, forward_;
+  double fx_, fy_, cx_, cy_;
+};
+
+}  // namespace marchcheck::march

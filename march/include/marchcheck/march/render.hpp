@@ -1,0 +1,77 @@
+// The tile-parallel renderer: marches every pixel of a scene, shades it, and keeps per-stage cost.
+#pragma once
+
+#include "marchcheck/march/camera.hpp"
+#include "marchcheck/march/marcher.hpp"
+#include "marchcheck/sdf/scene.hpp"
+#include "marchcheck/sdf/tape.hpp"
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace marchcheck::march {
+
+// The scene's field as a callable for the marchers and normal estimators, in any scalar type.
+struct TapeField {
+  const sdf::Tape* tape;
+  template <class T>
+  T operator()(glm::vec<3, T> p) const {
+    return sdf::evaluate(*tape, p);
+  }
+};
+
+struct Image {
+  int width = 0, height = 0, channels = 0;
+  std::vector<float> pixels;
+  Image() = default;
+  Image(int w, int h, int c, float fill = 0)
+      : width(w), height(h), channels(c), pixels(static_cast<size_t>(w) * h * c, fill) {}
+  float* at(int x, int y) { return &pixels[(static_cast<size_t>(y) * width + x) * channels]; }
+  const float* at(int x, int y) const { return &pixels[(static_cast<size_t>(y) * width + x) * channels]; }
+};
+
+enum class Aov { depth, normal, steps, evals, id };
+// Parses "depth,normal,..."; throws std::invalid_argument naming a bad entry.
+std::vector<Aov> parse_aovs(const std::string& list);
+std::string to_string(Aov aov);
+
+struct StageCost {
+  std::uint64_t evals = 0;
+  double seconds = 0;
+};
+
+struct RenderResult {
+  Image color;   // linear RGB
+  Image depth;   // distance along the ray; +inf where nothing was hit
+  Image normal;  // unit normal, zero where nothing was hit
+  Image steps;   // primary march steps
+  Image evals;   // SDF evaluations spent on the pixel, all stages
+  Image id;      // material index, -1 where nothing was hit
+  Image outcome;  // march::Outcome as a number
+  std::map<std::string, StageCost> stages;
+  std::uint64_t total_evals = 0;
+  double seconds = 0;
+  double evals_per_pixel() const;
+};
+
+// Renders at the scene's width and height.
+RenderResult render(const sdf::Scene& scene);
+
+// Dotted cost metrics: cost.stages.<stage>.evals/.seconds, cost.evals_per_pixel, cost.steps_max, cost.seconds.
+std::map<std::string, double> cost_metrics(const RenderResult& result);
+
+// Writes the colour image (PNG: 8-bit sRGB; EXR: float linear) and each AOV next to it
+// (FILE.depth.exr, FILE.normal.png, FILE.steps.png heat map, FILE.evals.png heat map, FILE.id.png), each
+// through a temporary file renamed into place. Throws std::runtime_error naming the file on failure.
+void write_render(const RenderResult& result, const std::string& path, const std::vector<Aov>& aovs);
+
+// Writes an image through a temporary file renamed into place; PNG/JPEG get 8-bit sRGB (or raw 8-bit for
+// data images: srgb = false), EXR/TIFF float.
+void write_image(const Image& image, const std::string& path, bool srgb = true);
+
+// A heat map (dark blue to yellow) of a one-channel image over [0, max_value].
+Image heat_map(const Image& values, double max_value);
+
+}  // namespace marchcheck::march

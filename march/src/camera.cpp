@@ -1,0 +1,119 @@
+#include "marchcheck/march/camera.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace marchcheck::march {
+
+namespace {
+
+constexpr double kDegree = std::numbers::pi / 180;
+
+// Solves g(x) = target for x by Newton's method with a finite-difference Jacobian, from x0.
+template <class G>
+glm::dvec2 solve2(const G& g, glm::dvec2 target, glm::dvec2 x) {
+  for (int i = 0; i < 30; ++i) {
+    const glm::dvec2 r = g(x) - target;
+    if (std::abs(r.x) + std::abs(r.y) < 1e-15) break;
+    const double h = 1e-7 * (1 + std::abs(x.x) + std::abs(x.y));
+    const glm::dvec2 jx = (g(x + glm::dvec2(h, 0)) - g(x - glm::dvec2(h, 0))) / (2 * h);
+    const glm::dvec2 jy = (g(x + glm::dvec2(0, h)) - g(x - glm::dvec2(0, h))) / (2 * h);
+    const double det = jx.x * jy.y - jy.x * jx.y;
+    if (!(std::abs(det) > 0)) break;
+    x -= glm::dvec2(jy.y * r.x - jy.x * r.y, -jx.y * r.x + jx.x * r.y) / det;
+  }
+  return x;
+}
+
+}  // namespace
+
+Camera::Camera(const sdf::CameraSpec& spec, int width, int height) : spec_(spec), width_(width), height_(height) {
+  if (spec.pose == sdf::CameraPose::orbit) {
+    const double yaw = spec.yaw_deg * kDegree, pitch = spec.pitch_deg * kDegree;
+    eye_ = spec.target +
+           spec.distance * glm::dvec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
+  } else {
+    eye_ = spec.position;
+  }
+  forward_ = glm::normalize(spec.target - eye_);
+  right_ = glm::normalize(glm::cross(forward_, spec.up));
+  up_ = glm::cross(right_, forward_);
+  if (spec.model == sdf::CameraModel::intrinsics) {
+    fx_ = spec.fx;
+    fy_ = spec.fy;
+    cx_ = spec.cx >= 0 ? spec.cx : width * 0.5;
+    cy_ = spec.cy >= 0 ? spec.cy : height * 0.5;
+  } else {
+    fy_ = fx_ = height * 0.5 / std::tan(spec.fov_deg * kDegree * 0.5);
+    cx_ = width * 0.5;
+    cy_ = height * 0.5;
+  }
+}
+
+glm::dvec2 Camera::distort(glm::dvec2 u) const {
+  // Lens distortion belongs to the intrinsics model only.
+  if (spec_.model != sdf::CameraModel::intrinsics) return u;
+  const double r2 = u.x * u.x + u.y * u.y;
+  const double radial = 1 + spec_.k1 * r2 + spec_.k2 * r2 * r2;
+  return {u.x * radial + 2 * spec_.p1 * u.x * u.y + spec_.p2 * (r2 + 2 * u.x * u.x),
+          u.y * radial + spec_.p1 * (r2 + 2 * u.y * u.y) + 2 * spec_.p2 * u.x * u.y};
+}
+
+glm::dvec2 Camera::undistort(glm::dvec2 d) const {
+  if (spec_.model != sdf::CameraModel::intrinsics) return d;
+  return solve2([this](glm::dvec2 u) { return distort(u); }, d, d);
+}
+
+Ray Camera::ray(double px, double py) const {
+  switch (spec_.model) {
+    case sdf::CameraModel::orthographic: {
+      const double unit = spec_.ortho_height / height_;
+      return {eye_ + right_ * ((px - width_ * 0.5) * unit) - up_ * ((py - height_ * 0.5) * unit), forward_};
+    }
+    case sdf::CameraModel::frustum: {
+      // The four corner rays at unit depth, interpolated bilinearly (as an image effect's vertex shader does).
+      const double th = std::tan(spec_.fov_deg * kDegree * 0.5), tw = th * width_ / height_;
+      const double u = px / width_, v = py / height_;
+      const glm::dvec3 top_left = forward_ - right_ * tw + up_ * th, top_right = forward_ + right_ * tw + up_ * th;
+      const glm::dvec3 bottom_left = forward_ - right_ * tw - up_ * th, bottom_right = forward_ + right_ * tw - up_ * th;
+      const glm::dvec3 top = glm::mix(top_left, top_right, u), bottom = glm::mix(bottom_left, bottom_right, u);
+      return {eye_, glm::normalize(glm::mix(top, bottom, v))};
+    }
+    default: {
+      const glm::dvec2 n = undistort({(px - cx_) / fx_, (py - cy_) / fy_});
+      return {eye_, glm::normalize(forward_ + right_ * n.x - up_ * n.y)};
+    }
+  }
+}
+
+std::optional<glm::dvec2> Camera::project(glm::dvec3 world) const {
+  const glm::dvec3 v = world - eye_;
+  if (spec_.model == sdf::CameraModel::orthographic) {
+    const double unit = spec_.ortho_height / height_;
+    return glm::dvec2(glm::dot(v, right_) / unit + width_ * 0.5, -glm::dot(v, up_) / unit + height_ * 0.5);
+  }
+  const double z = glm::dot(v, forward_);
+  if (!(z > 0)) return std::nullopt;
+  const glm::dvec2 n(glm::dot(v, right_) / z, -glm::dot(v, up_) / z);
+  if (spec_.model == sdf::CameraModel::frustum) {
+    // Invert the bilinear corner interpolation: at unit depth it is linear in (u, v) for a rectangular frustum.
+    const double th = std::tan(spec_.fov_deg * kDegree * 0.5), tw = th * width_ / height_;
+    return glm::dvec2((n.x / tw + 1) * 0.5 * width_, (n.y / th + 1) * 0.5 * height_);
+  }
+  const glm::dvec2 d = distort(n);
+  return glm::dvec2(fx_ * d.x + cx_, fy_ * d.y + cy_);
+}
+
+double Camera::footprint_at_0() const {
+  return spec_.model == sdf::CameraModel::orthographic ? 0.5 * spec_.ortho_height / height_ : 0.0;
+}
+
+double Camera::footprint_slope() const { return spec_.model == sdf::CameraModel::orthographic ? 0.0 : 0.5 / fy_; }
+
+double Camera::measured_vertical_fov_deg() const {
+  if (spec_.model == sdf::CameraModel::orthographic) return 0;
+  const glm::dvec3 top = ray(width_ * 0.5, 0).direction, bottom = ray(width_ * 0.5, height_).direction;
+  return std::acos(glm::clamp(glm::dot(top, bottom), -1.0, 1.0)) / kDegree;
+}
+
+}  // namespace marchcheck::march

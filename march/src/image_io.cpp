@@ -1,0 +1,132 @@
+// OpenImageIO lives in this file alone: OIIO 2.4 forces its bundled fmt settings on any file that includes it.
+#include "marchcheck/march/render.hpp"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace marchcheck::march {
+
+namespace {
+
+bool is_float_format(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  return ext == ".exr" || ext == ".tif" || ext == ".tiff" || ext == ".hdr";
+}
+
+float to_srgb(float linear) {
+  const float c = std::clamp(linear, 0.0f, 1.0f);
+  return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+}
+
+// "dir/name.png" -> "dir/.name.png.tmp-PID.png": same folder (so rename is atomic), same extension (OIIO
+// picks the format from it).
+std::filesystem::path temp_name(const std::filesystem::path& path) {
+  auto tmp = path;
+  tmp.replace_filename("." + path.filename().string() + ".tmp-" + std::to_string(::getpid()) +
+                       path.extension().string());
+  return tmp;
+}
+
+std::string base_of(const std::string& path) {
+  const std::filesystem::path p(path);
+  return (p.parent_path() / p.stem()).string();
+}
+
+}  // namespace
+
+void write_image(const Image& image, const std::string& path, bool srgb) {
+  const bool as_float = is_float_format(path);
+  const auto tmp = temp_name(path);
+  auto out = OIIO::ImageOutput::create(tmp.string());
+  if (!out) throw std::runtime_error(path + ": no image writer for this extension (" + OIIO::geterror() + ")");
+  OIIO::ImageSpec spec(image.width, image.height, image.channels, as_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  bool ok = out->open(tmp.string(), spec);
+  if (ok) {
+    if (as_float) {
+      ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
+    } else {
+      std::vector<unsigned char> bytes(image.pixels.size());
+      for (size_t i = 0; i < bytes.size(); ++i) {
+        const float v = srgb ? to_srgb(image.pixels[i]) : std::clamp(image.pixels[i], 0.0f, 1.0f);
+        bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
+      }
+      ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+    }
+    ok = out->close() && ok;
+  }
+  if (!ok) {
+    const std::string error = out->geterror();
+    std::filesystem::remove(tmp);
+    throw std::runtime_error(path + ": cannot write the image: " + error);
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp);
+    throw std::runtime_error(path + ": cannot move the finished image into place: " + ec.message());
+  }
+}
+
+Image heat_map(const Image& values, double max_value) {
+  // Five stops from dark blue through magenta and orange to light yellow (perceptually ordered, like inferno).
+  static constexpr float stops[5][3] = {
+      {0.02f, 0.02f, 0.10f}, {0.35f, 0.05f, 0.50f}, {0.80f, 0.20f, 0.35f}, {0.98f, 0.60f, 0.10f}, {0.98f, 0.98f, 0.65f}};
+  Image out(values.width, values.height, 3);
+  for (int y = 0; y < values.height; ++y)
+    for (int x = 0; x < values.width; ++x) {
+      const double v = *values.at(x, y);
+      const double u = max_value > 0 && std::isfinite(v) ? std::clamp(v / max_value, 0.0, 1.0) * 4 : 0;
+      const int i = std::min(static_cast<int>(u), 3);
+      const float f = static_cast<float>(u - i);
+      float* c = out.at(x, y);
+      for (int k = 0; k < 3; ++k) c[k] = stops[i][k] + (stops[i + 1][k] - stops[i][k]) * f;
+    }
+  return out;
+}
+
+void write_render(const RenderResult& r, const std::string& path, const std::vector<Aov>& aovs) {
+  write_image(r.color, path, true);
+  const std::string base = base_of(path);
+  for (Aov aov : aovs) {
+    switch (aov) {
+      case Aov::depth: write_image(r.depth, base + ".depth.exr"); break;
+      case Aov::normal: {
+        Image shown = r.normal;
+        for (auto& v : shown.pixels) v = v * 0.5f + 0.5f;
+        write_image(shown, base + ".normal.png", false);
+        break;
+      }
+      case Aov::steps: {
+        const float top = *std::max_element(r.steps.pixels.begin(), r.steps.pixels.end());
+        write_image(heat_map(r.steps, top), base + ".steps.png", false);
+        break;
+      }
+      case Aov::evals: {
+        const float top = *std::max_element(r.evals.pixels.begin(), r.evals.pixels.end());
+        write_image(heat_map(r.evals, top), base + ".evals.png", false);
+        break;
+      }
+      case Aov::id: {
+        Image shown(r.id.width, r.id.height, 3);
+        for (int y = 0; y < r.id.height; ++y)
+          for (int x = 0; x < r.id.width; ++x) {
+            const int id = static_cast<int>(*r.id.at(x, y));
+            float* c = shown.at(x, y);
+            // Golden-ratio hues keep neighbouring ids apart; misses stay black.
+            for (int k = 0; k < 3; ++k)
+              c[k] = id < 0 ? 0.0f : 0.5f + 0.45f * std::cos(6.2831853f * (0.618034f * static_cast<float>(id) + static_cast<float>(k) / 3.0f));
+          }
+        write_image(shown, base + ".id.png", false);
+        break;
+      }
+    }
+  }
+}
+
+}  // namespace marchcheck::march

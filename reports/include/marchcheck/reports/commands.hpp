@@ -1,0 +1,31 @@
+// The commands behind the command line. Each returns the process exit status (0 ok, 1 a check failed,
+// 2 bad input) and prints errors to stderr naming the file or argument at fault.
+#pragma once
+
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace marchcheck::reports {
+
+struct ScenesCommand {
+  bool json = false;
+  std::optional<std::string> export_name;
+};
+int run_scenes(const ScenesCommand& cmd, std::ostream& out, std::ostream& err);
+
+struct RenderCommand {
+  std::string scene;
+  std::string output = "render.png";
+  std::optional<std::string> size;  // "WxH"
+  std::string aovs;                 // "depth,normal,..."
+  std::optional<std::string> stats;
+  std::vector<std::string> sets;  // "KEY=VALUE"
+};
+int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err);
+
+// Renders every built-in scene into dir (the main job until the accuracy report exists).
+int run_render_all(const std::string& dir, std::ostream& out, std::ostream& err);
+
+}  // namespace marchcheck::reports

@@ -1,0 +1,118 @@
+#include "marchcheck/reports/commands.hpp"
+
+#include "marchcheck/march/render.hpp"
+#include "marchcheck/reports/results_io.hpp"
+#include "marchcheck/sdf/builtin_scenes.hpp"
+#include "marchcheck/sdf/scene_file.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+
+namespace marchcheck::reports {
+
+namespace {
+
+constexpr int kBadInput = 2;
+
+void apply_sets(sdf::Scene& scene, const std::vector<std::string>& sets) {
+  for (const auto& kv : sets) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) throw sdf::SceneError("--set " + kv + ": expected KEY=VALUE");
+    sdf::apply_setting(scene, kv.substr(0, eq), kv.substr(eq + 1));
+  }
+}
+
+void apply_size(sdf::Scene& scene, const std::string& size) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(size.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1 ||
+      w > 16384 || h > 16384)
+    throw sdf::SceneError("--size " + size + ": expected WIDTHxHEIGHT, each 1..16384");
+  scene.width = w;
+  scene.height = h;
+}
+
+}  // namespace
+
+int run_scenes(const ScenesCommand& cmd, std::ostream& out, std::ostream& err) {
+  if (cmd.export_name) {
+    try {
+      out << sdf::scene_to_json(sdf::builtin_scene(*cmd.export_name));
+      return 0;
+    } catch (const sdf::SceneError& e) {
+      err << "marchcheck scenes: " << e.what() << "\n";
+      return kBadInput;
+    }
+  }
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (const auto& name : sdf::builtin_scene_names()) {
+    const auto scene = sdf::builtin_scene(name);
+    const auto info = sdf::derive_info(scene.root, scene.time);
+    list.push_back({{"name", name},
+                    {"description", scene.description},
+                    {"kind", std::string(sdf::to_string(info.kind))},
+                    {"lipschitz", info.lipschitz},
+                    {"kind_reason", info.reason}});
+  }
+  if (cmd.json) {
+    out << list.dump(2) << "\n";
+    return 0;
+  }
+  out << std::left << std::setw(18) << "scene" << std::setw(11) << "kind" << std::setw(7) << "L"
+      << "description\n";
+  for (const auto& s : list)
+    out << std::setw(18) << s["name"].get<std::string>() << std::setw(11) << s["kind"].get<std::string>()
+        << std::setw(7) << std::setprecision(3) << s["lipschitz"].get<double>() << s["description"].get<std::string>()
+        << "\n";
+  return 0;
+}
+
+int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err) {
+  sdf::Scene scene;
+  std::vector<march::Aov> aovs;
+  try {
+    scene = sdf::resolve_scene(cmd.scene);
+    apply_sets(scene, cmd.sets);
+    if (cmd.size) apply_size(scene, *cmd.size);
+    if (!cmd.aovs.empty()) aovs = march::parse_aovs(cmd.aovs);
+    sdf::compile(scene.root, scene.time);  // reports tree errors before any work
+  } catch (const std::exception& e) {
+    err << "marchcheck render: " << e.what() << "\n";
+    return kBadInput;
+  }
+  const auto result = march::render(scene);
+  try {
+    march::write_render(result, cmd.output, aovs);
+    if (cmd.stats) write_text_atomically(*cmd.stats, metrics_json(march::cost_metrics(result)));
+  } catch (const std::exception& e) {
+    err << "marchcheck render: " << e.what() << "\n";
+    return kBadInput;
+  }
+  out << scene.name << ": " << scene.width << "x" << scene.height << ", " << std::fixed << std::setprecision(1)
+      << result.evals_per_pixel() << " evaluations per pixel, " << std::setprecision(3) << result.seconds
+      << " s -> " << cmd.output << "\n";
+  return 0;
+}
+
+int run_render_all(const std::string& dir, std::ostream& out, std::ostream& err) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) {
+    err << "marchcheck: " << dir << ": cannot create the folder: " << ec.message() << "\n";
+    return kBadInput;
+  }
+  for (const auto& name : sdf::builtin_scene_names()) {
+    RenderCommand cmd;
+    cmd.scene = name;
+    cmd.output = (std::filesystem::path(dir) / (name + ".png")).string();
+    cmd.aovs = "steps";
+    cmd.stats = (std::filesystem::path(dir) / (name + ".stats.json")).string();
+    if (const int status = run_render(cmd, out, err); status != 0) return status;
+  }
+  return 0;
+}
+
+}  // namespace marchcheck::reports

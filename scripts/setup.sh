@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package marchcheck's build, tests and report need. Idempotent: skips what is installed.
+set -euo pipefail
+packages=(
+  build-essential cmake ninja-build pkg-config git
+  libglm-dev libcgal-dev libopenmesh-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libopenimageio-dev libtbb-dev
+  nlohmann-json3-dev libcli11-dev libfmt-dev
+  python3 python3-matplotlib
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+if ((${#missing[@]} == 0)); then
+  echo "setup: all ${#packages[@]} packages already installed"
+  exit 0
+fi
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+echo "setup: installing ${missing[*]}"
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

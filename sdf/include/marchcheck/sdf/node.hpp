@@ -1,0 +1,154 @@
+// The distance-field language: a tree of primitives and operators, each with a declared distance kind.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace marchcheck::sdf {
+
+enum class Op : unsigned char {
+  // 3D primitives
+  sphere,
+  plane,
+  box,
+  round_box,
+  box_frame,
+  torus,
+  capped_torus,
+  capsule,
+  capped_cylinder,
+  cone,
+  ellipsoid,
+  octahedron,
+  octahedron_bound,
+  heightfield,
+  mandelbulb,
+  // 2D shapes (children of revolve and extrude)
+  circle,
+  rect,
+  segment,
+  // shapes from 2D
+  revolve,
+  extrude,
+  // combinations
+  union_,
+  intersection,
+  subtraction,
+  smooth_union,
+  smooth_intersection,
+  smooth_subtraction,
+  // modifiers of the distance
+  round,
+  onion,
+  displace,
+  // domain operators
+  translate,
+  rotate,
+  scale,
+  affine,
+  animate,
+  repeat,
+  repeat_limited,
+  mirror,
+  twist,
+  warp,
+  count_
+};
+
+// What |f| is with respect to the Euclidean distance to the zero set.
+enum class Kind : unsigned char {
+  exact,     // |f| equals the distance
+  bound,     // |f| never exceeds the distance
+  unbounded  // neither: only f/L is safe to step by
+};
+
+std::string_view to_string(Kind kind);
+
+struct ParamSpec {
+  std::string_view name;
+  int size;  // number of values; 0 = any number of pairs
+  std::vector<double> fallback;  // empty = required
+  double min = -1e300;           // allowed range for every component
+  double max = 1e300;
+};
+
+struct OpInfo {
+  Op op;
+  std::string_view name;
+  int dimension;     // 3 or 2: the space its value lives in
+  int min_children;  // 0 for primitives
+  int max_children;  // -1 = any number
+  int child_dimension;
+  std::vector<ParamSpec> params;
+  std::string_view summary;
+};
+
+const OpInfo& op_info(Op op);
+// nullptr when no operator has this name.
+const OpInfo* find_op(std::string_view name);
+std::span<const OpInfo> all_ops();
+
+struct Node {
+  Op op = Op::sphere;
+  std::vector<double> params;  // the OpInfo's params, flattened in order
+  std::vector<Node> children;
+  int material = -1;  // index into the scene's materials; -1 = inherit from the children
+
+  // The values of the named parameter (aborts on a name the op does not have: a programming error).
+  std::span<const double> param(std::string_view name) const;
+  double scalar(std::string_view name) const { return param(name)[0]; }
+  glm::dvec3 vec3(std::string_view name) const;
+};
+
+// Builds a node with every parameter at its default, then the given ones.
+Node make(Op op, std::vector<std::pair<std::string_view, std::vector<double>>> values = {},
+          std::vector<Node> children = {}, int material = -1);
+
+// Builders that read like the GLSL people write.
+Node sphere(double radius, int material = -1);
+Node plane(glm::dvec3 normal, double offset, int material = -1);
+Node box(glm::dvec3 half_size, int material = -1);
+Node torus(double major, double minor, int material = -1);
+Node translate(glm::dvec3 offset, Node child);
+Node unite(std::vector<Node> children);
+Node intersect(Node a, Node b);
+Node subtract(Node a, Node b);
+Node smooth_union(double k, std::vector<Node> children);
+
+struct Box3 {
+  glm::dvec3 lo{-INFINITY};
+  glm::dvec3 hi{INFINITY};
+  bool is_finite() const;
+  glm::dvec3 center() const { return (lo + hi) * 0.5; }
+  glm::dvec3 size() const { return hi - lo; }
+};
+
+// What a field declares about itself, derived bottom-up from its tree.
+struct FieldInfo {
+  Kind kind = Kind::exact;
+  double lipschitz = 1.0;  // bound on |grad f|
+  Box3 bounds;             // encloses the zero set (and f <= 0 region); infinite when unknown
+  std::string reason;      // why the kind is what it is, for reports
+};
+
+glm::dmat3 rotation_matrix(glm::dvec3 axis, double angle_rad);
+
+// The model matrix x -> a x + t of an affine or animate node at the given time.
+struct ModelTransform {
+  glm::dmat3 a;
+  glm::dvec3 t;
+};
+ModelTransform model_transform(const Node& node, double time);
+
+// time feeds the animated operators (animate, warp).
+FieldInfo derive_info(const Node& node, double time = 0.0);
+
+// Checks shape (children counts and dimensions, parameter sizes and ranges); returns "" when valid,
+// otherwise a message naming the path (e.g. "/children/1/radius") and the problem.
+std::string validate_tree(const Node& node);
+
+}  // namespace marchcheck::sdf

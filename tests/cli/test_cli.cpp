@@ -1,0 +1,97 @@
+// The command line as a user meets it: exit statuses, messages, files.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+
+namespace {
+
+struct CommandRun {
+  int status;
+  std::string output;  // stdout and stderr together
+};
+
+CommandRun run(const std::string& args) {
+  const std::string cmd = std::string(MARCHCHECK_BINARY) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() / ("marchcheck_cli_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::filesystem::path dir_;
+};
+
+TEST_F(Cli, ScenesListsEveryBuiltin) {
+  const CommandRun r = run("scenes");
+  EXPECT_EQ(r.status, 0);
+  for (const char* name : {"lee-flat", "lee-terrain", "crum-torus", "crum-smooth", "crum-lattice", "crum-mandelbulb",
+                           "fogerty", "warped", "flafla-torus", "flafla-csg", "flafla-materials", "flafla-animated"})
+    EXPECT_NE(r.output.find(name), std::string::npos) << name;
+  EXPECT_EQ(run("scenes --json").status, 0);
+}
+
+TEST_F(Cli, RenderWritesTheImageAndTheStats) {
+  const CommandRun r = run("render lee-flat --size 64x36 -o " + path("lee.png") + " --aov steps --stats " + path("s.json") +
+                    " --set max_steps=50");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(path("lee.png")));
+  EXPECT_TRUE(std::filesystem::exists(path("lee.steps.png")));
+  std::ifstream stats(path("s.json"));
+  const std::string text((std::istreambuf_iterator<char>(stats)), {});
+  for (const char* key : {"\"cost.stages.march.evals\"", "\"cost.stages.march.seconds\"", "\"cost.evals_per_pixel\""})
+    EXPECT_NE(text.find(key), std::string::npos) << key;
+}
+
+TEST_F(Cli, ExportedSceneFileRendersLikeTheBuiltin) {
+  const CommandRun exported = run("scenes --export crum-smooth > " + path("smooth.json"));
+  ASSERT_EQ(exported.status, 0);
+  // PNG: the EXR header carries a timestamp, the PNG holds pixels only.
+  ASSERT_EQ(run("render " + path("smooth.json") + " --size 48x27 -o " + path("a.png")).status, 0);
+  ASSERT_EQ(run("render crum-smooth --size 48x27 -o " + path("b.png")).status, 0);
+  std::ifstream a(path("a.png"), std::ios::binary), b(path("b.png"), std::ios::binary);
+  const std::string da((std::istreambuf_iterator<char>(a)), {}), db((std::istreambuf_iterator<char>(b)), {});
+  EXPECT_EQ(da, db);
+}
+
+TEST_F(Cli, BadInputExitsTwoWithAMessageAndWritesNothing) {
+  std::ofstream(path("broken.json")) << "{\n  \"sdf\": {\"type\": \"sphere\" \"radius\": 1}\n}\n";
+  struct Case {
+    std::string args;
+    std::string message;
+  };
+  const Case cases[] = {
+      {"render no-such-scene -o " + path("x.png"), "no-such-scene: not a built-in scene"},
+      {"render " + path("missing.json") + " -o " + path("x.png"), "missing.json: cannot open the scene file"},
+      {"render " + path("broken.json") + " -o " + path("x.png"), "broken.json:2:35: syntax error"},
+      {"render lee-flat --set max_step=3 -o " + path("x.png"), "--set max_step: unknown key"},
+      {"render lee-flat --set hit_eps=abc -o " + path("x.png"), "--set hit_eps=abc: expected a number"},
+      {"render lee-flat --size 64by36 -o " + path("x.png"), "--size 64by36: expected WIDTHxHEIGHT"},
+      {"render lee-flat --aov colour -o " + path("x.png"), "unknown AOV 'colour'"},
+      {"render lee-flat --size 8x8 -o " + path("x.nope"), "x.nope: no image writer"},
+      {"frobnicate", "unknown command 'frobnicate'"},
+  };
+  for (const auto& c : cases) {
+    const CommandRun r = run(c.args);
+    EXPECT_EQ(r.status, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
+  }
+  EXPECT_FALSE(std::filesystem::exists(path("x.png")));
+  for (const auto& entry : std::filesystem::directory_iterator(dir_))
+    EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
+}
+
+}  // namespace

@@ -1,0 +1,183 @@
+// Each marcher's record on rays whose answer is known in closed form.
+#include "marchcheck/march/marcher.hpp"
+#include "marchcheck/march/render.hpp"
+#include "marchcheck/sdf/node.hpp"
+#include "marchcheck/sdf/tape.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace marchcheck::march {
+namespace {
+
+using V = glm::dvec3;
+
+const sdf::Tape kUnitSphere = sdf::compile(sdf::sphere(1));
+const TapeField kSphere{&kUnitSphere};
+
+MarchSettings settings(Marcher m, int steps = 200, double eps = 1e-4) {
+  MarchSettings s;
+  s.marcher = m;
+  s.max_steps = steps;
+  s.hit_eps = eps;
+  s.max_dist = 100;
+  s.fixed_step = 0.01;
+  return s;
+}
+
+// Ray from (0, b, -5) along +z: the closed-form hit is at t = 5 - sqrt(1 - b^2) when |b| < 1.
+double closed_form_t(double b) { return 5 - std::sqrt(1 - b * b); }
+
+class EveryMarcher : public ::testing::TestWithParam<Marcher> {};
+
+TEST_P(EveryMarcher, HitsAtTheClosedFormDistanceWithinEps) {
+  const double eps = 1e-4;
+  for (double b : {0.0, 0.3, 0.7}) {
+    const auto r = march<double>(kSphere, V(0, b, -5), V(0, 0, 1), settings(GetParam(), 2000, eps), {});
+    ASSERT_EQ(r.outcome, Outcome::hit) << b;
+    // The hit point is within eps of the surface; along the ray that is eps / cos(incidence) at most.
+    const double cos_incidence = std::sqrt(1 - b * b);
+    EXPECT_NEAR(r.t, closed_form_t(b), eps / cos_incidence + 1e-12) << b;
+    EXPECT_EQ(r.evals, r.steps) << "every step is exactly one evaluation";
+    EXPECT_LE(r.last_abs_f, eps);
+  }
+}
+
+TEST_P(EveryMarcher, MissesFarAndRecordsTheClosestApproach) {
+  const auto r = march<double>(kSphere, V(0, 1.5, -5), V(0, 0, 1), settings(GetParam(), 20000), {});
+  EXPECT_EQ(r.outcome, Outcome::miss_far);
+  EXPECT_GT(r.t, 100.0);
+  // Closest approach of the ray to the sphere is 0.5 at z = 0 (t = 5). Samples lie at most half a step
+  // (< 0.5 / 2 * relaxation) from it, where |f| = sqrt(1.5^2 + dt^2) - 1 exceeds 0.5 by at most 0.05.
+  EXPECT_GE(r.min_abs_f, 0.5 - 1e-12);
+  EXPECT_LE(r.min_abs_f, GetParam() == Marcher::fixed ? 0.5 + 1e-4 : 0.55);
+  EXPECT_NEAR(r.t_at_min, 5.0, GetParam() == Marcher::fixed ? 0.01 : 1.0);  // samples are one step apart
+}
+
+TEST_P(EveryMarcher, StartsInside) {
+  const auto r = march<double>(kSphere, V(0.1, 0.2, 0), V(0, 0, 1), settings(GetParam()), {});
+  EXPECT_EQ(r.outcome, Outcome::inside);
+  EXPECT_EQ(r.evals, 1);
+}
+
+TEST_P(EveryMarcher, NonFiniteOrZeroInputIsInvalidWithoutEvaluating) {
+  const double nan = std::nan(""), inf = INFINITY;
+  for (const auto& [o, d] : {std::pair{V(0, 0, -5), V(nan, 0, 1)}, std::pair{V(0, 0, -5), V(0, 0, 0)},
+                             std::pair{V(inf, 0, -5), V(0, 0, 1)}, std::pair{V(0, nan, -5), V(0, 0, 1)}}) {
+    const auto r = march<double>(kSphere, o, d, settings(GetParam()), {});
+    EXPECT_EQ(r.outcome, Outcome::invalid);
+    EXPECT_EQ(r.evals, 0);
+  }
+  MarchSettings bad = settings(GetParam());
+  bad.hit_eps = std::nan("");
+  EXPECT_EQ(march<double>(kSphere, V(0, 0, -5), V(0, 0, 1), bad, {}).outcome, Outcome::invalid);
+}
+
+TEST_P(EveryMarcher, ZeroStepsIsAnUndecidedMissWithNoWork) {
+  const auto r = march<double>(kSphere, V(0, 0, -5), V(0, 0, 1), settings(GetParam(), 0), {});
+  EXPECT_EQ(r.outcome, Outcome::miss_steps);
+  EXPECT_EQ(r.evals, 0);
+}
+
+std::string marcher_name(const ::testing::TestParamInfo<Marcher>& p) {
+  static const char* const names[] = {"sphere", "relaxed", "fixed", "scaled"};
+  return names[static_cast<int>(p.param)];
+}
+
+INSTANTIATE_TEST_SUITE_P(All, EveryMarcher,
+                         ::testing::Values(Marcher::sphere, Marcher::relaxed, Marcher::scaled, Marcher::fixed),
+                         marcher_name);
+
+TEST(SphereTracing, StepLimitIsExactNotOffByOne) {
+  const auto full = march<double>(kSphere, V(0, 0.5, -5), V(0, 0, 1), settings(Marcher::sphere), {});
+  ASSERT_EQ(full.outcome, Outcome::hit);
+  const int needed = full.steps;
+  EXPECT_EQ(march<double>(kSphere, V(0, 0.5, -5), V(0, 0, 1), settings(Marcher::sphere, needed), {}).outcome,
+            Outcome::hit);
+  const auto short_of_one = march<double>(kSphere, V(0, 0.5, -5), V(0, 0, 1), settings(Marcher::sphere, needed - 1), {});
+  EXPECT_EQ(short_of_one.outcome, Outcome::miss_steps);
+  EXPECT_EQ(short_of_one.evals, needed - 1);
+}
+
+TEST(SphereTracing, GrazingRaysFollowTheSquareRootLawAndNeverHitFalsely) {
+  // A ray passing the unit sphere at clearance b needs about pi sqrt(2R / b) steps to get past it.
+  for (double b : {1e-1, 1e-2, 1e-3, 1e-4}) {
+    const auto r = march<double>(kSphere, V(0, 1 + b, -5), V(0, 0, 1), settings(Marcher::sphere, 100000, 1e-6), {});
+    EXPECT_EQ(r.outcome, Outcome::miss_far) << b;
+    const double law = std::numbers::pi * std::sqrt(2 / b);
+    EXPECT_GT(r.steps, 0.5 * law) << b;
+    EXPECT_LT(r.steps, 1.5 * law + 20) << b;  // + steps to leave the far side and reach max_dist
+  }
+  // With a seed-like 32-step limit, a ray at b = 1e-4 ends undecided: reported as such, not as hit or miss.
+  const auto r = march<double>(kSphere, V(0, 1 + 1e-4, -5), V(0, 0, 1), settings(Marcher::sphere, 32, 1e-6), {});
+  EXPECT_EQ(r.outcome, Outcome::miss_steps);
+  EXPECT_FALSE(r.decided());
+}
+
+TEST(RelaxedTracing, SavesEvaluationsAndFallsBackSafely) {
+  // A ray at 5 degrees to a plane: sphere tracing crawls, over-relaxation strides.
+  const sdf::Tape plane = sdf::compile(sdf::plane({0, 1, 0}, 0));
+  const TapeField field{&plane};
+  const V dir = glm::normalize(V(std::cos(0.0873), -std::sin(0.0873), 0));
+  const auto plain = march<double>(field, V(0, 1, 0), dir, settings(Marcher::sphere, 1000), {});
+  const auto relaxed = march<double>(field, V(0, 1, 0), dir, settings(Marcher::relaxed, 1000), {});
+  ASSERT_EQ(plain.outcome, Outcome::hit);
+  ASSERT_EQ(relaxed.outcome, Outcome::hit);
+  EXPECT_LT(relaxed.evals, plain.evals * 0.7);
+  const double exact_t = 1 / std::sin(0.0873);
+  EXPECT_NEAR(relaxed.t, exact_t, 1e-4 / std::sin(0.0873));
+  // On a sphere hit head-on the relaxed step overshoots; the fallback must still end on the surface.
+  const auto head_on = march<double>(kSphere, V(0, 0, -5), V(0, 0, 1), settings(Marcher::relaxed), {});
+  EXPECT_EQ(head_on.outcome, Outcome::hit);
+  EXPECT_NEAR(head_on.t, 4.0, 1e-4);
+}
+
+TEST(ScaledTracing, StepsSafelyThroughAFieldWithLipschitzAboveOne) {
+  // A sphere evaluated at diag(4, 1, 1) p: an ellipsoid-like field with slope 4 along x.
+  const sdf::Node squashed =
+      sdf::make(sdf::Op::affine, {{"model", {0.25, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}}}, {sdf::sphere(1)});
+  const sdf::Tape tape = sdf::compile(squashed);
+  const TapeField field{&tape};
+  const double lipschitz = sdf::derive_info(squashed).lipschitz;
+  ASSERT_NEAR(lipschitz, 4.0, 1e-9);
+  // Along +x through the thin axis: the surface is at x = -0.25.
+  const V origin(-3, 0, 0), dir(1, 0, 0);
+  MarchSettings s = settings(Marcher::sphere, 1000, 1e-4);
+  const auto plain = march<double>(field, origin, dir, s, {});
+  s.marcher = Marcher::scaled;
+  const auto scaled = march<double>(field, origin, dir, s, {lipschitz, 0, 0});
+  ASSERT_EQ(scaled.outcome, Outcome::hit);
+  EXPECT_NEAR(scaled.t, 2.75, 1e-4);
+  // Plain sphere tracing steps by f = 4 x distance: it lands inside, far past the surface.
+  EXPECT_GT(std::abs(plain.t - 2.75), 0.1);
+}
+
+TEST(FixedStep, BisectsTheCrossingToEps) {
+  MarchSettings s = settings(Marcher::fixed, 10000, 1e-9);
+  s.fixed_step = 0.3;
+  const auto r = march<double>(kSphere, V(0, 0.2, -5), V(0, 0, 1), s, {});
+  ASSERT_EQ(r.outcome, Outcome::hit);
+  EXPECT_NEAR(r.t, closed_form_t(0.2), 1e-8);
+}
+
+TEST(EpsModes, RelativeAndPixelThresholdsGrowWithDistance) {
+  MarchSettings s = settings(Marcher::sphere);
+  s.eps_mode = EpsMode::relative;
+  s.hit_eps = 1e-3;
+  EXPECT_DOUBLE_EQ(hit_threshold<double>(s, {}, 50.0), 0.05);
+  s.eps_mode = EpsMode::pixel;
+  EXPECT_DOUBLE_EQ(hit_threshold<double>(s, {1, 0.001, 0.002}, 50.0), 0.101);
+}
+
+TEST(FloatMarch, AgreesWithDoubleWithinFloatPrecision) {
+  const auto d = march<double>(kSphere, V(0, 0.3, -5), V(0, 0, 1), settings(Marcher::sphere, 200, 1e-3), {});
+  const auto f = march<float>(kSphere, glm::vec3(0, 0.3f, -5), glm::vec3(0, 0, 1), settings(Marcher::sphere, 200, 1e-3), {});
+  ASSERT_EQ(f.outcome, Outcome::hit);
+  // Both stop within eps of the surface: they differ by at most 2 eps / cos(incidence).
+  EXPECT_NEAR(static_cast<double>(f.t), d.t, 2e-3 / std::sqrt(1 - 0.09));
+}
+
+}  // namespace
+}  // namespace marchcheck::march

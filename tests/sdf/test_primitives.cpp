@@ -1,0 +1,195 @@
+// Each primitive's declared kind against its zero set located by a closed-form inside test alone.
+#include "zero_set.hpp"
+
+#include "marchcheck/sdf/node.hpp"
+#include "marchcheck/sdf/tape.hpp"
+
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+namespace marchcheck::sdf {
+namespace {
+
+using testing::Inside;
+using testing::ZeroSet;
+
+constexpr double kGrid = 0.01;  // zero-set grid spacing: surface points are within sqrt(3) * 0.01 of the truth
+constexpr double kRounding = 1e-9;  // double evaluation error at these magnitudes is far below this
+
+struct PrimitiveCase {
+  const char* name;
+  Node node;
+  Inside inside;
+  Kind expected;
+};
+
+double segment_distance(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b) {
+  const glm::dvec3 ab = b - a;
+  const double t = std::clamp(glm::dot(p - a, ab) / glm::dot(ab, ab), 0.0, 1.0);
+  return glm::length(p - (a + ab * t));
+}
+
+std::vector<PrimitiveCase> cases() {
+  const double deg = std::numbers::pi / 180;
+  return {
+      {"sphere", sphere(0.8), [](glm::dvec3 p) { return glm::dot(p, p) < 0.64; }, Kind::exact},
+      {"box", box({0.9, 0.5, 0.3}),
+       [](glm::dvec3 p) { return std::abs(p.x) < 0.9 && std::abs(p.y) < 0.5 && std::abs(p.z) < 0.3; }, Kind::exact},
+      {"round_box", make(Op::round_box, {{"half_size", {0.9, 0.5, 0.4}}, {"radius", {0.2}}}),
+       [](glm::dvec3 p) {
+         // Inside when within 0.2 of the inner box (half-size minus the radius).
+         const glm::dvec3 inner(0.7, 0.3, 0.2);
+         const glm::dvec3 nearest = glm::clamp(p, -inner, inner);
+         return glm::length(p - nearest) < 0.2;
+       },
+       Kind::exact},
+      {"box_frame", make(Op::box_frame, {{"half_size", {0.8, 0.6, 0.7}}, {"thickness", {0.1}}}),
+       [](glm::dvec3 p) {
+         const glm::dvec3 b(0.8, 0.6, 0.7), a = glm::abs(p);
+         if (a.x > b.x || a.y > b.y || a.z > b.z) return false;
+         // Inside a bar: within the thickness of the outer faces on at least two axes.
+         const int near_faces = (a.x > b.x - 0.1) + (a.y > b.y - 0.1) + (a.z > b.z - 0.1);
+         return near_faces >= 2;
+       },
+       Kind::exact},
+      {"torus", torus(0.7, 0.25),
+       [](glm::dvec3 p) {
+         const double q = std::hypot(p.x, p.z) - 0.7;
+         return q * q + p.y * p.y < 0.0625;
+       },
+       Kind::exact},
+      {"capped_torus", make(Op::capped_torus, {{"angle_deg", {120}}, {"major", {0.7}}, {"minor", {0.2}}}),
+       [deg](glm::dvec3 p) {
+         // The arc of radius 0.7 in the xy plane within 120 degrees of +y, swept by a tube of radius 0.2.
+         const double ax = std::abs(p.x), from_up = std::atan2(ax, p.y);
+         const glm::dvec3 end = 0.7 * glm::dvec3(std::sin(120 * deg), std::cos(120 * deg), 0);
+         const double d = from_up <= 120 * deg ? std::hypot(std::hypot(ax, p.y) - 0.7, p.z)
+                                               : glm::length(glm::dvec3(ax, p.y, p.z) - end);
+         return d < 0.2;
+       },
+       Kind::exact},
+      {"capsule", make(Op::capsule, {{"a", {-0.5, -0.3, 0.1}}, {"b", {0.6, 0.4, -0.2}}, {"radius", {0.3}}}),
+       [](glm::dvec3 p) { return segment_distance(p, {-0.5, -0.3, 0.1}, {0.6, 0.4, -0.2}) < 0.3; }, Kind::exact},
+      {"capped_cylinder", make(Op::capped_cylinder, {{"half_height", {0.6}}, {"radius", {0.4}}}),
+       [](glm::dvec3 p) { return std::hypot(p.x, p.z) < 0.4 && std::abs(p.y) < 0.6; }, Kind::exact},
+      {"cone", make(Op::cone, {{"angle_deg", {30}}, {"height", {1.0}}}),
+       [deg](glm::dvec3 p) { return p.y < 0 && p.y > -1 && std::hypot(p.x, p.z) < -p.y * std::tan(30 * deg); },
+       Kind::exact},
+      {"ellipsoid", make(Op::ellipsoid, {{"radii", {0.9, 0.5, 0.3}}}),
+       [](glm::dvec3 p) { return std::pow(p.x / 0.9, 2) + std::pow(p.y / 0.5, 2) + std::pow(p.z / 0.3, 2) < 1; },
+       Kind::bound},
+      {"octahedron", make(Op::octahedron, {{"size", {0.9}}}),
+       [](glm::dvec3 p) { return std::abs(p.x) + std::abs(p.y) + std::abs(p.z) < 0.9; }, Kind::exact},
+      {"octahedron_bound", make(Op::octahedron_bound, {{"size", {0.9}}}),
+       [](glm::dvec3 p) { return std::abs(p.x) + std::abs(p.y) + std::abs(p.z) < 0.9; }, Kind::bound},
+      {"revolve(circle)",
+       make(Op::revolve, {{"offset", {0.6}}}, {make(Op::circle, {{"center", {0.1, 0.2}}, {"radius", {0.25}}})}),
+       [](glm::dvec3 p) {
+         const double q = std::hypot(p.x, p.z) - 0.6 - 0.1;
+         return q * q + (p.y - 0.2) * (p.y - 0.2) < 0.0625;
+       },
+       Kind::exact},
+      {"extrude(rect)",
+       make(Op::extrude, {{"half_depth", {0.3}}}, {make(Op::rect, {{"center", {0.1, 0}}, {"half_size", {0.5, 0.4}}})}),
+       [](glm::dvec3 p) { return std::abs(p.x - 0.1) < 0.5 && std::abs(p.y) < 0.4 && std::abs(p.z) < 0.3; },
+       Kind::exact},
+      {"extrude(segment)",
+       make(Op::extrude, {{"half_depth", {0.4}}},
+            {make(Op::segment, {{"a", {-0.5, -0.2}}, {"b", {0.5, 0.3}}, {"radius", {0.15}}})}),
+       [](glm::dvec3 p) {
+         return std::abs(p.z) < 0.4 && segment_distance({p.x, p.y, 0}, {-0.5, -0.2, 0}, {0.5, 0.3, 0}) < 0.15;
+       },
+       Kind::exact},
+  };
+}
+
+// Checks a field against the zero set of `inside`: exact fields must match the distance within the sampling
+// error, bound fields must never exceed it; the sign must agree with the inside test.
+::testing::AssertionResult matches_kind(const Node& node, const Inside& inside, Kind kind) {
+  const Tape tape = compile(node);
+  const FieldInfo info = derive_info(node);
+  const glm::dvec3 lo = info.bounds.lo - 0.4, hi = info.bounds.hi + 0.4;
+  const ZeroSet zs(inside, info.bounds.lo - 0.05, info.bounds.hi + 0.05, kGrid);
+  if (zs.points.size() < 100) return ::testing::AssertionFailure() << "zero set not found";
+  const auto m = testing::measure_kind(tape, zs, inside, lo, hi, 400);
+  if (m.sign_errors > 0) return ::testing::AssertionFailure() << m.sign_errors << " sign errors";
+  if (m.max_over > kRounding)
+    return ::testing::AssertionFailure() << "overestimates the distance by " << m.max_over << " (not a bound)";
+  if (kind == Kind::exact && m.max_under > ZeroSet::sampling_error(kGrid))
+    return ::testing::AssertionFailure() << "underestimates by " << m.max_under << " > sampling error "
+                                         << ZeroSet::sampling_error(kGrid) << " (not exact)";
+  return ::testing::AssertionSuccess() << "over " << m.max_over << ", under " << m.max_under;
+}
+
+class Primitive : public ::testing::TestWithParam<size_t> {};
+
+TEST_P(Primitive, DeclaredKindHoldsAgainstItsZeroSet) {
+  const auto c = cases()[GetParam()];
+  SCOPED_TRACE(c.name);
+  const FieldInfo info = derive_info(c.node);
+  EXPECT_EQ(info.kind, c.expected) << info.reason;
+  EXPECT_EQ(info.lipschitz, 1.0);
+  EXPECT_TRUE(matches_kind(c.node, c.inside, info.kind));
+}
+
+INSTANTIATE_TEST_SUITE_P(All, Primitive, ::testing::Range<size_t>(0, cases().size()),
+                         [](const auto& param_info) {
+                           std::string name = cases()[param_info.param].name;
+                           for (auto& ch : name)
+                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+                           return name;
+                         });
+
+// The check must be able to fail: each broken variant below is caught.
+TEST(PrimitiveCheck, CatchesAWrongRadius) {
+  const Inside in_sphere = [](glm::dvec3 p) { return glm::dot(p, p) < 0.64; };
+  // Too large a radius overestimates inside: not a bound. Too small is off by 0.1 everywhere: not exact.
+  EXPECT_FALSE(matches_kind(sphere(0.9), in_sphere, Kind::bound));
+  EXPECT_FALSE(matches_kind(sphere(0.7), in_sphere, Kind::exact));
+}
+
+TEST(PrimitiveCheck, CatchesABoundDeclaredExact) {
+  // The octahedron's cheap form is only a bound: declaring it exact must fail the check.
+  const Inside in_octa = [](glm::dvec3 p) { return std::abs(p.x) + std::abs(p.y) + std::abs(p.z) < 0.9; };
+  EXPECT_TRUE(matches_kind(make(Op::octahedron_bound, {{"size", {0.9}}}), in_octa, Kind::bound));
+  EXPECT_FALSE(matches_kind(make(Op::octahedron_bound, {{"size", {0.9}}}), in_octa, Kind::exact));
+}
+
+TEST(PrimitiveCheck, CatchesAFlippedSign) {
+  // The same sphere judged against its complement: every sign disagrees.
+  EXPECT_FALSE(matches_kind(sphere(0.8), [](glm::dvec3 p) { return glm::dot(p, p) >= 0.64; }, Kind::exact));
+}
+
+TEST(Plane, IsExactAgainstClosedFormDistance) {
+  // Closed form: distance to the plane n.p + h = 0 with a non-unit n given is |n.p/|n| + h|.
+  const Tape tape = compile(plane({1, 2, 2}, -0.5));
+  for (double x : {-2.0, 0.0, 1.5})
+    for (double z : {-1.0, 0.3}) {
+      const glm::dvec3 p(x, 0.7, z);
+      EXPECT_NEAR(sdf::evaluate(tape, p), (p.x + 2 * p.y + 2 * p.z) / 3.0 - 0.5, 1e-15);
+    }
+}
+
+TEST(Heightfield, IsALipschitzBoundedHeightField) {
+  const Node terrain = make(Op::heightfield, {{"octaves", {-0.5, 0.5, -0.05, 2, -0.012, 4}}});
+  const FieldInfo info = derive_info(terrain);
+  EXPECT_EQ(info.kind, Kind::unbounded);
+  const Tape tape = compile(terrain);
+  const double measured = testing::measure_lipschitz([&](glm::dvec3 p) { return sdf::evaluate(tape, p); },
+                                                     {-20, -1, -20}, {20, 1, 20}, 200000);
+  EXPECT_LE(measured, info.lipschitz);
+  EXPECT_GT(measured, 1.05) << "the terrain is steeper than 1 somewhere: plain sphere tracing is unsafe";
+}
+
+TEST(Mandelbulb, IsFiniteEverywhereItIsAsked) {
+  const Tape tape = compile(make(Op::mandelbulb));
+  for (double r : {0.0, 0.5, 1.0, 1.2, 2.0, 10.0})
+    for (const glm::dvec3 dir : {glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::normalize(glm::dvec3(1, 2, 3))})
+      EXPECT_TRUE(std::isfinite(sdf::evaluate(tape, dir * r))) << r;
+  EXPECT_GT(sdf::evaluate(tape, glm::dvec3(0, 0, 3)), 1.0);
+  EXPECT_LT(sdf::evaluate(tape, glm::dvec3(0, 0, 0.1)), 0.05);
+}
+
+}  // namespace
+}  // namespace marchcheck::sdf
