@@ -160,6 +160,7 @@ Scene warped() {
   return s;
 }
 
+// Unity's view space is left-handed; seen from +z in this right-handed one, +x is on the right as there.
 void flafla_common(Scene& s, glm::dvec3 eye) {
   look_at(s, eye, {0, 0, 0}, 60);
   s.march.max_steps = 64;
@@ -167,14 +168,14 @@ void flafla_common(Scene& s, glm::dvec3 eye) {
   s.march.max_dist = 40;
   s.march.normal_eps = 0.001;
   s.march.shadow = ShadowMode::none;
-  s.lights = {directional_light({-0.3, -1, 0.5}, {1, 1, 1})};
+  s.lights = {directional_light({-0.3, -1, -0.5}, {1, 1, 1})};
 }
 
 Scene flafla_torus() {
   Scene s = base("flafla-torus", "Unity image-effect marcher: torus (1, 0.2), 64 steps, draw distance 40");
   const int m = add_material(s, "torus", {0.9, 0.9, 0.9});
   s.root = torus(1, 0.2, m);
-  flafla_common(s, {0, 2, -4});
+  flafla_common(s, {0, 2, 4});
   return s;
 }
 
@@ -187,7 +188,7 @@ Scene flafla_csg() {
   Node i = intersect(translate({3.5, 0.5, 0}, box(unit)), translate({4.5, -0.5, 0}, box(unit)));
   s.root = unite({std::move(u), std::move(d), std::move(i)});
   s.root.material = m;
-  flafla_common(s, {0, 4, -10});
+  flafla_common(s, {0, 4, 10});
   return s;
 }
 
@@ -199,7 +200,7 @@ Scene flafla_materials() {
   const int sphere_m = add_material(s, "ramp-0.75", {0.6, 0.5, 0.1});
   s.root = unite({torus(1, 0.2, torus_m), translate({-3, 0, 0}, box({0.75, 0.5, 0.5}, box_m)),
                   translate({3, 0, 0}, sphere(1, sphere_m))});
-  flafla_common(s, {0, 3, -7});
+  flafla_common(s, {0, 3, 7});
   return s;
 }
 
@@ -209,7 +210,7 @@ Scene flafla_animated() {
   s.root = make(Op::animate, {{"translate_sin", {5, 0, 0}}, {"spin_axis", {0, 0, 1}}, {"spin_deg_per_s", {200}}},
                 {torus(1, 0.2, m)});
   s.time = 1;
-  flafla_common(s, {0, 3, -12});
+  flafla_common(s, {0, 3, 12});
   return s;
 }
 
