@@ -44,7 +44,7 @@ Camera::Camera(const sdf::CameraSpec& spec, int width, int height) : spec_(spec)
     cx_ = spec.cx >= 0 ? spec.cx : width * 0.5;
     cy_ = spec.cy >= 0 ? spec.cy : height * 0.5;
   } else {
-    fy_ = fx_ = height * 0.5 / std::tan(spec.fov_deg * kDegree * 0.5);
+    fy_ = fx_ = (spec.fov_full_height ? height : height * 0.5) / std::tan(spec.fov_deg * kDegree * 0.5);
     cx_ = width * 0.5;
     cy_ = height * 0.5;
   }
@@ -81,7 +81,8 @@ Ray Camera::ray(double px, double py) const {
     }
     default: {
       const glm::dvec2 n = undistort({(px - cx_) / fx_, (py - cy_) / fy_});
-      return {eye_, glm::normalize(forward_ + right_ * n.x - up_ * n.y)};
+      const glm::dvec3 d = forward_ + right_ * n.x - up_ * n.y;
+      return {eye_, spec_.normalize_rays ? glm::normalize(d) : d};
     }
   }
 }

@@ -1,6 +1,8 @@
 #include "marchcheck/march/render.hpp"
 
+#include "marchcheck/march/effects.hpp"
 #include "marchcheck/march/normals.hpp"
+#include "marchcheck/march/texture.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -66,8 +68,9 @@ double RenderResult::evals_per_pixel() const {
 
 namespace {
 
-enum Stage { kMarch, kNormal, kMaterial, kShade, kStageCount };
-constexpr const char* kStageNames[kStageCount] = {"march", "normal", "material", "shade"};
+enum Stage { kMarch, kNormal, kMaterial, kShadow, kAo, kReflection, kRefraction, kShade, kStageCount };
+constexpr const char* kStageNames[kStageCount] = {"march",      "normal",     "material", "shadow",
+                                                  "ao",         "reflection", "refraction", "shade"};
 constexpr int kTile = 16;
 
 struct Counters {
@@ -78,17 +81,192 @@ using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
+// What the scene declares, decided once: a stage not declared is never entered, so it costs nothing.
+struct Pipeline {
+  bool normals = false, materials = false, shadows = false, ao_samples = false, reflection = false,
+       refraction = false, textures = false;
+};
+
+Pipeline plan(const sdf::Scene& scene, const std::vector<Aov>& aovs) {
+  Pipeline p;
+  const bool aov_normal = std::find(aovs.begin(), aovs.end(), Aov::normal) != aovs.end();
+  const bool aov_id = std::find(aovs.begin(), aovs.end(), Aov::id) != aovs.end();
+  const bool lit = !scene.lights.empty();
+  p.materials = lit || aov_id || scene.effects.ambient > 0;
+  for (const auto& l : scene.lights) p.shadows = p.shadows || l.shadow != sdf::ShadowMode::none;
+  p.ao_samples = scene.effects.ao == sdf::AmbientOcclusion::samples;
+  for (const auto& m : scene.materials) {
+    p.reflection = p.reflection || (m.reflectivity > 0 && scene.effects.max_bounces > 0);
+    p.refraction = p.refraction || (m.transparency > 0 && scene.effects.max_bounces > 0);
+    p.textures = p.textures || m.texture != sdf::TextureMapping::none;
+  }
+  p.normals = lit || aov_normal || p.ao_samples || p.reflection || p.refraction ||
+              scene.effects.shading == sdf::Shading::toon;
+  return p;
+}
+
 struct Context {
   const sdf::Scene& scene;
   sdf::Tape tape;
   Camera camera;
   MarchContext march;
+  Pipeline pipeline;
+};
+
+template <class T>
+using Vec = glm::vec<3, T>;
+
+template <class T>
+struct Surface {
+  Vec<T> point{0}, normal{0};
+  int material = -1;
+};
+
+template <class T>
+T normal_epsilon(const MarchSettings& s, T t) {
+  return T(s.normal_eps_scaled ? s.normal_eps * static_cast<double>(t) : s.normal_eps);
+}
+
+glm::dvec3 material_color(const Context& ctx, int material, glm::dvec3 p, glm::dvec3 n) {
+  const auto& scene = ctx.scene;
+  if (material < 0) return glm::dvec3(0.8);
+  const auto& m = scene.materials[static_cast<size_t>(material)];
+  if (m.ramp_value >= 0 && !scene.effects.ramp.empty()) {
+    const auto& ramp = scene.effects.ramp;
+    const double x = m.ramp_value * static_cast<double>(ramp.size() - 1);
+    const size_t i = std::min(static_cast<size_t>(x), ramp.size() - 1), j = std::min(i + 1, ramp.size() - 1);
+    return glm::mix(ramp[i], ramp[j], x - static_cast<double>(i));
+  }
+  if (m.texture == sdf::TextureMapping::none) return m.color;
+  // Looked up just below the surface, as the seed does (p - n * SURF_DIST).
+  const glm::dvec3 q = p - n * scene.march.hit_eps;
+  if (m.texture == sdf::TextureMapping::planar)
+    return m.color * sample_texture(soil_texture_path(), q.x * m.texture_scale, q.z * m.texture_scale);
+  const glm::dvec3 d = glm::normalize(q);
+  const double u = 0.5 + std::atan2(d.z, d.x) / (2 * M_PI), v = 0.5 - std::asin(std::clamp(d.y, -1.0, 1.0)) / M_PI;
+  return m.color * sample_texture(soil_texture_path(), u * m.texture_scale, v * m.texture_scale);
+}
+
+// Direct lighting of a surface point: diffuse variants, toon bands, specular; visibility per light from the
+// shadow stage (1 where the light casts no shadow).
+glm::dvec3 direct_light(const Context& ctx, glm::dvec3 p, glm::dvec3 n, glm::dvec3 eye, glm::dvec3 albedo, int material,
+                        const double* visibility, double ao) {
+  const auto& fx = ctx.scene.effects;
+  const sdf::Material* m = material >= 0 ? &ctx.scene.materials[static_cast<size_t>(material)] : nullptr;
+  const glm::dvec3 to_eye = glm::normalize(eye - p);
+  glm::dvec3 color = albedo * fx.ambient * ao;
+  for (size_t i = 0; i < ctx.scene.lights.size(); ++i) {
+    const auto& light = ctx.scene.lights[i];
+    const glm::dvec3 l = light.type == sdf::LightType::point ? glm::normalize(light.position_at(ctx.scene.time) - p)
+                                                             : -glm::normalize(light.direction);
+    const double cosine = glm::dot(n, l);
+    double diffuse = fx.diffuse == sdf::Diffuse::unclamped ? cosine
+                     : fx.diffuse == sdf::Diffuse::floor  ? std::clamp(cosine, fx.diffuse_floor, 1.0)
+                                                          : std::clamp(cosine, 0.0, 1.0);
+    double specular = 0;
+    if (m && m->specular != sdf::SpecularModel::none) {
+      const double base = m->specular == sdf::SpecularModel::phong
+                              ? glm::dot(glm::reflect(-l, n), to_eye)
+                              : glm::dot(n, glm::normalize(l + to_eye));
+      specular = m->specular_strength * std::pow(std::clamp(base, 0.0, 1.0), m->shininess);
+    }
+    if (fx.shading == sdf::Shading::toon) {
+      const double bands = fx.toon_bands;
+      auto quantise = [&](double x) {
+        const double band = std::min(std::floor(std::clamp(x, 0.0, 1.0) * bands), bands - 1);
+        return glm::mix(0.1, 1.0, band / (bands - 1));
+      };
+      diffuse = quantise(diffuse);
+      specular = m && m->specular != sdf::SpecularModel::none ? std::min(quantise(specular), diffuse) : 0;
+    }
+    const double v = visibility[i];
+    color += light.color * (albedo * diffuse * glm::mix(light.darkening, 1.0, v) + specular * v);
+  }
+  if (fx.shading == sdf::Shading::toon && glm::dot(to_eye, n) < fx.silhouette) color = glm::dvec3(0);
+  return color;
+}
+
+constexpr size_t kMaxLights = 16;
+
+template <class T>
+struct Tracer {
+  const Context& ctx;
+  Counters& counters;
+
+  // Marches and shades a secondary ray (reflection or refraction), charging all its evaluations to stage.
+  glm::dvec3 trace(Vec<T> origin, Vec<T> dir, int depth, Stage stage) {
+    const auto& s = ctx.scene.march;
+    const TapeField field{&ctx.tape};
+    const auto r = march<T>(field, origin, dir, s, ctx.march);
+    auto& cost = counters.stages[stage];
+    cost.evals += static_cast<std::uint64_t>(r.evals);
+    if (r.outcome != Outcome::hit) return ctx.scene.effects.background;
+    const Vec<T> p = origin + dir * r.t;
+    const auto n = estimate_normal(field, p, s.normal, normal_epsilon(s, r.t));
+    const int material = sdf::sample(ctx.tape, p).material;
+    cost.evals += static_cast<std::uint64_t>(n.evals + 1);
+    double visibility[kMaxLights];
+    cost.evals += shadows(p, n.n, r.t, visibility);
+    const glm::dvec3 pd(p), nd(n.n);
+    const glm::dvec3 albedo = material_color(ctx, material, pd, nd);
+    glm::dvec3 color = direct_light(ctx, pd, nd, glm::dvec3(origin), albedo, material, visibility, 1.0);
+    return bounce(color, p, n.n, dir, material, depth, r.t);
+  }
+
+  // Fills the visibility of every light; returns the evaluations spent.
+  std::uint64_t shadows(Vec<T> p, Vec<T> n, T t, double* visibility) {
+    const TapeField field{&ctx.tape};
+    std::uint64_t evals = 0;
+    for (size_t i = 0; i < ctx.scene.lights.size(); ++i) {
+      const auto& light = ctx.scene.lights[i];
+      visibility[i] = 1;
+      if (light.shadow == sdf::ShadowMode::none) continue;
+      Vec<T> to_light;
+      T dist;
+      if (light.type == sdf::LightType::point) {
+        const Vec<T> d = Vec<T>(light.position_at(ctx.scene.time)) - p;
+        dist = glm::length(d);
+        to_light = d / dist;
+      } else {
+        to_light = -glm::normalize(Vec<T>(light.direction));
+        dist = std::numeric_limits<T>::infinity();
+      }
+      const auto sv = shadow_visibility<T>(field, p, n, to_light, dist, t, light, ctx.scene.march, ctx.march);
+      visibility[i] = sv.visibility;
+      evals += static_cast<std::uint64_t>(sv.evals);
+    }
+    return evals;
+  }
+
+  // Mixes in mirror reflection and refraction (Schlick-weighted) for materials that declare them.
+  glm::dvec3 bounce(glm::dvec3 local, Vec<T> p, Vec<T> n, Vec<T> dir, int material, int depth, T t) {
+    if (material < 0 || depth >= ctx.scene.effects.max_bounces) return local;
+    const auto& m = ctx.scene.materials[static_cast<size_t>(material)];
+    if (m.reflectivity <= 0 && m.transparency <= 0) return local;
+    const T offset = T(2) * hit_threshold(ctx.scene.march, ctx.march, t) + T(1e-4);
+    const Vec<T> reflected_dir = glm::reflect(dir, n);
+    const glm::dvec3 reflected = trace(p + n * offset, reflected_dir, depth + 1, kReflection);
+    glm::dvec3 color = glm::mix(local, reflected, m.reflectivity);
+    if (m.transparency > 0) {
+      const TapeField field{&ctx.tape};
+      const auto through = refract_through<T>(field, p, n, dir, m.ior, ctx.scene.march, ctx.march,
+                                             normal_epsilon(ctx.scene.march, t));
+      counters.stages[kRefraction].evals += static_cast<std::uint64_t>(through.evals);
+      const glm::dvec3 refracted = through.ok ? trace(through.exit_point, through.exit_direction, depth + 1, kRefraction)
+                                              : ctx.scene.effects.background;
+      const double fresnel = schlick_fresnel(-glm::dot(glm::dvec3(dir), glm::dvec3(n)), 1.0, m.ior);
+      color = glm::mix(color, fresnel * reflected + (1 - fresnel) * refracted, m.transparency);
+    }
+    return color;
+  }
 };
 
 template <class T>
 void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters& counters) {
-  using V = glm::vec<3, T>;
+  using V = Vec<T>;
   const auto& s = ctx.scene.march;
+  const auto& fx = ctx.scene.effects;
+  const Pipeline& pipe = ctx.pipeline;
   const TapeField field{&ctx.tape};
   const int x1 = std::min(x0 + kTile, out.color.width), y1 = std::min(y0 + kTile, out.color.height);
   struct PixelState {
@@ -96,7 +274,10 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     RayRecord<T> record;
     V normal{0};
     int material = -1;
-    int evals = 0;
+    std::uint64_t evals = 0;
+    double visibility[kMaxLights];
+    double ao = 1;
+    bool hit = false;
   };
   std::array<PixelState, kTile * kTile> px;
   const int w = x1 - x0;
@@ -104,59 +285,97 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) fn(px[static_cast<size_t>((y - y0) * w + (x - x0))], x, y);
   };
+  // Runs one stage over the tile, timing it and charging the evaluations it reports.
+  auto stage = [&](Stage which, auto&& fn) {
+    const auto start = Clock::now();
+    std::uint64_t evals = 0;
+    each([&](PixelState& p, int x, int y) {
+      const auto e = static_cast<std::uint64_t>(fn(p, x, y));
+      p.evals += e;
+      evals += e;
+    });
+    counters.stages[which].evals += evals;
+    counters.stages[which].seconds += since(start);
+  };
 
-  auto start = Clock::now();
-  each([&](PixelState& p, int x, int y) {
+  stage(kMarch, [&](PixelState& p, int x, int y) {
     const Ray ray = ctx.camera.ray(x + 0.5, y + 0.5);
     p.origin = V(ray.origin);
     p.direction = V(ray.direction);
     p.record = march<T>(field, p.origin, p.direction, s, ctx.march);
-    p.evals = p.record.evals;
-    counters.stages[kMarch].evals += static_cast<std::uint64_t>(p.record.evals);
+    if (s.miss_as_zero && p.record.outcome != Outcome::hit) {
+      // The seed's encoding: a miss is distance 0, which its consumer reads as a hit at the ray origin.
+      p.record.outcome = Outcome::hit;
+      p.record.t = 0;
+    }
+    p.hit = p.record.outcome == Outcome::hit;
+    for (auto& v : p.visibility) v = 1;
+    return p.record.evals;
   });
-  counters.stages[kMarch].seconds += since(start);
+  if (pipe.normals)
+    stage(kNormal, [&](PixelState& p, int, int) {
+      if (!p.hit) return 0;
+      const auto n = estimate_normal(field, V(p.origin + p.direction * p.record.t), s.normal, normal_epsilon(s, p.record.t));
+      p.normal = n.n;
+      return n.evals;
+    });
+  if (pipe.materials)
+    stage(kMaterial, [&](PixelState& p, int, int) {
+      if (!p.hit) return 0;
+      p.material = sdf::sample(ctx.tape, V(p.origin + p.direction * p.record.t)).material;
+      return 1;
+    });
+  Tracer<T> tracer{ctx, counters};
+  if (pipe.shadows)
+    stage(kShadow, [&](PixelState& p, int, int) {
+      if (!p.hit) return std::uint64_t{0};
+      return tracer.shadows(p.origin + p.direction * p.record.t, p.normal, p.record.t, p.visibility);
+    });
+  if (pipe.ao_samples)
+    stage(kAo, [&](PixelState& p, int, int) {
+      if (!p.hit) return 0;
+      const V at = p.origin + p.direction * p.record.t;
+      double occlusion = 0, weights = 0, weight = 1;
+      for (int i = 1; i <= fx.ao_samples; ++i) {
+        const T h = T(fx.ao_distance * i / fx.ao_samples);
+        const double d = static_cast<double>(field(at + p.normal * h));
+        occlusion += weight * std::clamp((static_cast<double>(h) - d) / static_cast<double>(h), 0.0, 1.0);
+        weights += weight;
+        weight *= 0.85;
+      }
+      p.ao = 1 - occlusion / weights;
+      return fx.ao_samples;
+    });
 
-  start = Clock::now();
-  each([&](PixelState& p, int, int) {
-    if (p.record.outcome != Outcome::hit) return;
-    const V hit = p.origin + p.direction * p.record.t;
-    const T eps = T(s.normal_eps_scaled ? s.normal_eps * static_cast<double>(p.record.t) : s.normal_eps);
-    const auto n = estimate_normal(field, hit, s.normal, eps);
-    p.normal = n.n;
-    p.evals += n.evals;
-    counters.stages[kNormal].evals += static_cast<std::uint64_t>(n.evals);
-  });
-  counters.stages[kNormal].seconds += since(start);
-
-  start = Clock::now();
-  each([&](PixelState& p, int, int) {
-    if (p.record.outcome != Outcome::hit) return;
-    p.material = sdf::sample(ctx.tape, V(p.origin + p.direction * p.record.t)).material;
-    p.evals += 1;
-    counters.stages[kMaterial].evals += 1;
-  });
-  counters.stages[kMaterial].seconds += since(start);
-
-  start = Clock::now();
-  const auto& fx = ctx.scene.effects;
+  const auto start = Clock::now();
+  double bounce_seconds = 0;
   each([&](PixelState& p, int x, int y) {
     glm::dvec3 color = fx.background;
-    if (p.record.outcome == Outcome::hit) {
-      const glm::dvec3 hit = glm::dvec3(p.origin) + glm::dvec3(p.direction) * static_cast<double>(p.record.t);
+    const glm::dvec3 hit = glm::dvec3(p.origin) + glm::dvec3(p.direction) * static_cast<double>(p.record.t);
+    if (p.hit) {
       const glm::dvec3 n(p.normal);
-      const glm::dvec3 albedo = p.material >= 0 ? ctx.scene.materials[static_cast<size_t>(p.material)].color
-                                                : glm::dvec3(0.8);
-      color = albedo * fx.ambient;
-      for (const auto& light : ctx.scene.lights) {
-        const glm::dvec3 l = light.type == sdf::LightType::point ? glm::normalize(light.position - hit)
-                                                                 : -glm::normalize(light.direction);
-        color += albedo * light.color * std::clamp(glm::dot(n, l), 0.0, 1.0);
+      const glm::dvec3 eye = fx.eye_is_ray_direction ? glm::dvec3(p.direction) : glm::dvec3(p.origin);
+      const glm::dvec3 albedo = pipe.materials ? material_color(ctx, p.material, hit, n) : glm::dvec3(0.8);
+      color = ctx.scene.lights.empty() && !pipe.materials ? glm::dvec3(0)
+                                                          : direct_light(ctx, hit, n, eye, albedo, p.material, p.visibility, p.ao);
+      if (fx.ao == sdf::AmbientOcclusion::steps)
+        color -= glm::dvec3(static_cast<double>(p.record.steps) * p.record.steps * fx.ao_steps_scale);
+      if (pipe.reflection || pipe.refraction) {
+        const auto bounce_start = Clock::now();
+        const std::uint64_t before = counters.stages[kReflection].evals + counters.stages[kRefraction].evals;
+        color = tracer.bounce(color, V(hit), p.normal, p.direction, p.material, 0, p.record.t);
+        p.evals += counters.stages[kReflection].evals + counters.stages[kRefraction].evals - before;
+        bounce_seconds += since(bounce_start);
       }
+      color = glm::max(color, glm::dvec3(0));
+      if (fx.fog > 0) color = glm::mix(fx.fog_color, color, std::exp(-fx.fog * static_cast<double>(p.record.t)));
+    } else if (fx.glow > 0) {
+      const double g = std::clamp(1 - static_cast<double>(p.record.min_abs_f) / fx.glow_width, 0.0, 1.0);
+      color += fx.glow_color * (fx.glow * g * g);
     }
     float* c = out.color.at(x, y);
     for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(color[i]);
-    const bool hit = p.record.outcome == Outcome::hit;
-    *out.depth.at(x, y) = hit ? static_cast<float>(p.record.t) : INFINITY;
+    *out.depth.at(x, y) = p.hit ? static_cast<float>(p.record.t) : INFINITY;
     float* n = out.normal.at(x, y);
     for (int i = 0; i < 3; ++i) n[i] = static_cast<float>(p.normal[i]);
     *out.steps.at(x, y) = static_cast<float>(p.record.steps);
@@ -164,18 +383,23 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     *out.id.at(x, y) = static_cast<float>(p.material);
     *out.outcome.at(x, y) = static_cast<float>(p.record.outcome);
   });
-  counters.stages[kShade].seconds += since(start);
+  // Secondary rays run inside the shading loop: their time is taken out of it and booked as reflection
+  // (refraction rays spawn reflection rays too; their evaluations are booked apart, their time together).
+  counters.stages[kShade].seconds += since(start) - bounce_seconds;
+  counters.stages[kReflection].seconds += bounce_seconds;
 }
 
 }  // namespace
 
-RenderResult render(const sdf::Scene& scene) {
+RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs) {
   const auto start = Clock::now();
   const int w = scene.width, h = scene.height;
-  Context ctx{scene, sdf::compile(scene.root, scene.time), Camera(scene.camera, w, h), {}};
+  if (scene.lights.size() > kMaxLights) throw std::invalid_argument("at most 16 lights");
+  Context ctx{scene, sdf::compile(scene.root, scene.time), Camera(scene.camera, w, h), {}, plan(scene, aovs)};
   ctx.march.lipschitz = sdf::derive_info(scene.root, scene.time).lipschitz;
   ctx.march.footprint_at_0 = ctx.camera.footprint_at_0();
   ctx.march.footprint_slope = ctx.camera.footprint_slope();
+  if (ctx.pipeline.textures) soil_texture_path();
 
   RenderResult out;
   out.color = Image(w, h, 3);
@@ -196,6 +420,7 @@ RenderResult render(const sdf::Scene& scene) {
       render_tile<float>(ctx, x0, y0, out, counters.local());
     }
   });
+  for (int i = 0; i < kStageCount; ++i) out.stages[kStageNames[i]] = {};
   for (const auto& c : counters)
     for (int i = 0; i < kStageCount; ++i) {
       out.stages[kStageNames[i]].evals += c.stages[static_cast<size_t>(i)].evals;

@@ -53,6 +53,8 @@ int run_scenes(const ScenesCommand& cmd, std::ostream& out, std::ostream& err) {
     const auto info = sdf::derive_info(scene.root, scene.time);
     list.push_back({{"name", name},
                     {"description", scene.description},
+                    {"defects", scene.defects},
+                    {"effects", sdf::declared_effects(scene)},
                     {"kind", std::string(sdf::to_string(info.kind))},
                     {"lipschitz", info.lipschitz},
                     {"kind_reason", info.reason}});
@@ -61,12 +63,16 @@ int run_scenes(const ScenesCommand& cmd, std::ostream& out, std::ostream& err) {
     out << list.dump(2) << "\n";
     return 0;
   }
-  out << std::left << std::setw(18) << "scene" << std::setw(11) << "kind" << std::setw(7) << "L"
-      << "description\n";
-  for (const auto& s : list)
-    out << std::setw(18) << s["name"].get<std::string>() << std::setw(11) << s["kind"].get<std::string>()
-        << std::setw(7) << std::setprecision(3) << s["lipschitz"].get<double>() << s["description"].get<std::string>()
-        << "\n";
+  out << std::left << std::setw(33) << "scene" << std::setw(11) << "kind" << std::setw(6) << "L" << std::setw(24)
+      << "reproduces" << "effects\n";
+  for (const auto& s : list) {
+    std::string effects, defects = s["defects"].empty() ? "-" : "defect:";
+    for (const auto& e : s["effects"]) effects += (effects.empty() ? "" : " ") + e.get<std::string>();
+    for (const auto& d : s["defects"]) defects += d.get<std::string>();
+    out << std::setw(33) << s["name"].get<std::string>() << std::setw(11) << s["kind"].get<std::string>()
+        << std::setw(6) << std::setprecision(3) << s["lipschitz"].get<double>() << std::setw(24) << defects
+        << effects << "\n";
+  }
   return 0;
 }
 
@@ -83,7 +89,7 @@ int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err) {
     err << "marchcheck render: " << e.what() << "\n";
     return kBadInput;
   }
-  const auto result = march::render(scene);
+  const auto result = march::render(scene, aovs);
   try {
     march::write_render(result, cmd.output, aovs);
     if (cmd.stats) write_text_atomically(*cmd.stats, metrics_json(march::cost_metrics(result)));

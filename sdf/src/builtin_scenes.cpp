@@ -48,13 +48,21 @@ Scene base(std::string name, std::string description) {
   return s;
 }
 
-// lee: sphere (0, 1.2, 0) r 1 over the ground; orbit camera, f = 600 px intrinsics, k1 = 0.3.
+// lee: sphere (0, 1.2, 0) r 1 over the ground; orbit camera, f = 600 px intrinsics, k1 = 0.3; a point light
+// circling at (6 sin 0.3t, 5, 6 cos 0.3t); hard shadows darkening diffuse to 0.3; Phong specular.
 Scene lee(bool terrain) {
   Scene s = base(terrain ? "lee-terrain" : "lee-flat",
                  terrain ? "Sphere over a value-noise height-field terrain (SDF y + height(x,z)), marched at f/L"
-                         : "Sphere over a ground plane, orbit camera with lens distortion, hard shadows");
+                         : "Sphere over a ground plane, orbit camera with lens distortion, hard shadows, specular");
   const int ball = add_material(s, "sphere", {0.5, 0.7, 1.0});
   const int ground = add_material(s, "ground", {0.57, 0.42, 0.3});
+  s.materials[0].specular = SpecularModel::phong;
+  s.materials[0].specular_strength = 0.3;
+  s.materials[0].density = 0.2;
+  s.materials[1].specular = SpecularModel::phong;
+  s.materials[1].specular_strength = 0.05;
+  s.materials[1].density = 10;
+  for (auto& m : s.materials) m.shininess = 10;
   Node floor = terrain ? make(Op::heightfield, {{"octaves", {-0.5, 0.5, -0.05, 2, -0.012, 4}}}, {}, ground)
                        : plane({0, 1, 0}, 0, ground);
   s.root = unite({translate({0, 1.2, 0}, sphere(1, ball)), std::move(floor)});
@@ -65,13 +73,79 @@ Scene lee(bool terrain) {
   s.camera.pitch_deg = 0.3 * 180 / M_PI;
   s.camera.fx = s.camera.fy = 600;
   s.camera.k1 = 0.3;
-  s.lights = {point_light({0, 5, 6}, {1, 1, 1})};
+  Light light = point_light({0, 5, 0}, {1, 1, 1});
+  light.motion_sin = {6, 0, 0};
+  light.motion_cos = {0, 0, 6};
+  light.motion_rate = 0.3;
+  light.shadow = ShadowMode::hard;
+  light.bias = ShadowBias::scaled;  // the fix: the seed's 10 * SURF_DIST fails at other scales
+  light.darkening = 0.3;
+  s.lights = {light};
   s.march.max_steps = 200;
   s.march.max_dist = 100;
   s.march.hit_eps = 0.01;
   s.march.normal_eps = 0.01;
+  s.effects.ambient = 0;
   s.effects.background = {0, 0, 0};
-  if (terrain) s.march.marcher = Marcher::scaled;  // the height field's Lipschitz bound is above 1
+  if (terrain) {
+    s.march.marcher = Marcher::scaled;  // the height field's Lipschitz bound is above 1
+    s.materials[1].texture = TextureMapping::planar;
+    s.materials[1].texture_scale = 0.2;
+    s.materials[1].color = glm::dvec3(1.2);
+  }
+  return s;
+}
+
+Scene lee_textured() {
+  Scene s = lee(false);
+  s.name = "lee-textured";
+  s.description = "lee-flat with the soil texture at fract(0.2 p.xz) on the ground and a longitude/latitude one on "
+                  "the sphere";
+  s.materials[0].texture = TextureMapping::spherical;
+  s.materials[0].color = {0.9, 1.2, 1.6};
+  s.materials[1].texture = TextureMapping::planar;
+  s.materials[1].texture_scale = 0.2;
+  s.materials[1].color = glm::dvec3(1.2);
+  return s;
+}
+
+Scene lee_glass() {
+  Scene s = lee(false);
+  s.name = "lee-glass";
+  s.description = "lee-flat with the transparent sphere its density announces: refraction (ior 1.5) with Schlick "
+                  "Fresnel";
+  s.materials[0].transparency = 0.9;
+  s.materials[0].ior = 1.5;
+  s.effects.max_bounces = 3;
+  return s;
+}
+
+// The seed's shadow bias (start at p + 10 SURF_DIST n) with the scene shrunk 100 times and SURF_DIST kept:
+// shadow rays start beyond the sphere that should block them.
+Scene lee_flat_defect_bias() {
+  Scene s = lee(false);
+  s.name = "lee-flat-defect-bias";
+  s.description = "lee-flat at 1/100 scale with the seed's fixed 10 * SURF_DIST shadow bias: shadows leak";
+  s.defects = {"bias"};
+  const double k = 0.01;
+  s.root = make(Op::scale, {{"factor", {k}}}, {s.root});
+  s.camera.distance *= k;
+  auto& l = s.lights[0];
+  l.position *= k;
+  l.motion_sin *= k;
+  l.motion_cos *= k;
+  l.bias = ShadowBias::seed_offset;
+  s.march.max_dist *= k;
+  s.march.normal_eps *= k;
+  return s;
+}
+
+Scene lee_terrain_defect_lipschitz() {
+  Scene s = lee(true);
+  s.name = "lee-terrain-defect-lipschitz";
+  s.description = "lee-terrain marched by plain sphere tracing although the height field's Lipschitz bound is 1.31";
+  s.defects = {"lipschitz"};
+  s.march.marcher = Marcher::sphere;
   return s;
 }
 
@@ -84,7 +158,10 @@ void crum_common(Scene& s) {
   s.lights = {point_light({2, 2, 2}, {1.5, 0, 0}), point_light({-2, 2, 2}, {0, 1.5, 0}),
               point_light({2, 2, -2}, {0, 0, 1.5}), point_light({-2, -2, -2}, {1.5, 1.5, 1.5})};
   s.effects.ambient = 0.1;
-  s.march.shadow = ShadowMode::none;
+  s.effects.ao = AmbientOcclusion::steps;
+  s.effects.ao_steps_scale = 1.0 / 3000;
+  s.effects.glow = 0.6;  // misses glow from the smallest |f| the march saw
+  s.effects.glow_width = 0.3;
 }
 
 Scene crum_torus() {
@@ -92,6 +169,38 @@ Scene crum_torus() {
   const int m = add_material(s, "torus", {1, 1, 1});
   s.root = torus(1.0, 0.3, m);
   crum_common(s);
+  return s;
+}
+
+Scene crum_torus_defect_fov() {
+  Scene s = crum_torus();
+  s.name = "crum-torus-defect-fov";
+  s.description = "crum-torus with the seed's ray direction z = height / tan(fov/2): the real field of view is "
+                  "narrower than the stated 70 degrees";
+  s.defects = {"fov"};
+  s.camera.fov_full_height = true;
+  return s;
+}
+
+// The seed's CSG demo shapes: a sphere and a box at the origin, combined by its broken operators.
+Scene crum_csg_defect(bool intersect_defect) {
+  Scene s = base(intersect_defect ? "crum-smooth-defect-intersect" : "crum-smooth-defect-subtract",
+                 intersect_defect ? "The seed's intersection max(d2, d2): ignores the sphere, draws only the box"
+                                  : "The seed's subtraction max(d2, -d2): draws the box's surface as a zero-thickness shell");
+  const int m = add_material(s, "csg", {1, 1, 1});
+  Node a = sphere(0.45), b = box(glm::dvec3(0.35));
+  if (intersect_defect) {
+    s.root = intersect(b, b);
+    s.intended = intersect(a, b);
+  } else {
+    s.root = subtract(b, b);
+    s.intended = subtract(b, a);
+  }
+  s.root.material = m;
+  s.intended->material = m;
+  s.defects = {intersect_defect ? "intersect" : "subtract"};
+  crum_common(s);
+  look_at(s, {-0.9, 1.1, 1.4}, {0, 0, 0}, 70);
   return s;
 }
 
@@ -117,6 +226,15 @@ Scene crum_lattice() {
   return s;
 }
 
+Scene crum_lattice_defect_lipschitz() {
+  Scene s = crum_lattice();
+  s.name = "crum-lattice-defect-lipschitz";
+  s.description = "crum-lattice marched by plain sphere tracing although the displacement raises L to 2.5";
+  s.defects = {"lipschitz"};
+  s.march.marcher = Marcher::sphere;
+  return s;
+}
+
 Scene crum_mandelbulb() {
   Scene s = base("crum-mandelbulb", "Power-8 Mandelbulb distance estimator, 8 iterations, bailout 2");
   const int m = add_material(s, "bulb", {1, 1, 1});
@@ -131,15 +249,49 @@ Scene crum_mandelbulb() {
 Scene fogerty() {
   Scene s = base("fogerty", "Toon-shaded sphere of radius 3 seen from (0, 0, -10) with a 90 degree field of view");
   const int m = add_material(s, "toon", {1, 0, 0});
+  s.materials[0].specular = SpecularModel::blinn;
+  s.materials[0].specular_strength = 1;
+  s.materials[0].shininess = 4;
   s.root = sphere(3, m);
   look_at(s, {0, 0, -10}, {0, 0, 0}, 90);
-  s.lights = {point_light({1.5, 4.5, -10}, {1, 1, 1})};
+  Light light = point_light({0, 3, -10}, {1, 1, 1});
+  light.motion_sin = {1.5, 0, 0};
+  light.motion_cos = {0, 1.5, 0};
+  light.motion_rate = 1;
+  s.lights = {light};
+  // The fix for the 32-step silhouette: hits within a pixel's footprint, and room to converge.
   s.march.max_steps = 256;
   s.march.hit_eps = 1e-4;
+  s.march.eps_mode = EpsMode::pixel;
   s.march.max_dist = 10000;
   s.march.normal_eps = 1e-3;
-  s.march.shadow = ShadowMode::none;
   s.effects.background = glm::dvec3(0.7);
+  s.effects.ambient = 0;
+  s.effects.shading = Shading::toon;
+  s.effects.toon_bands = 4;
+  s.effects.silhouette = 0.2;
+  return s;
+}
+
+Scene fogerty_defect(const std::string& which) {
+  Scene s = fogerty();
+  s.name = "fogerty-defect-" + which;
+  s.defects = {which};
+  s.march.max_steps = 32;
+  s.march.eps_mode = EpsMode::absolute;
+  if (which == "steps") {
+    s.description = "fogerty with the seed's 32 steps and absolute eps 1e-4: silhouette rays end undecided";
+  } else if (which == "miss0") {
+    s.description = "fogerty with the seed's miss encoded as distance 0: misses read as hits at the ray origin";
+    s.march.max_steps = 256;
+    s.march.miss_as_zero = true;
+  } else {
+    s.description = "fogerty with the ray direction passed where the camera position belongs: wrong specular and "
+                    "silhouette";
+    s.march.max_steps = 256;
+    s.march.eps_mode = EpsMode::pixel;
+    s.effects.eye_is_ray_direction = true;
+  }
   return s;
 }
 
@@ -155,8 +307,22 @@ Scene warped() {
   s.march.hit_eps = 0.02;
   s.march.max_dist = 100;
   s.march.normal = NormalMethod::forward;
-  s.march.shadow = ShadowMode::none;
   s.march.marcher = Marcher::scaled;  // the warp's slope reaches 4: step by f / L
+  s.effects.ambient = 0;
+  return s;
+}
+
+Scene warped_defect(const std::string& which) {
+  Scene s = warped();
+  s.name = "warped-defect-" + which;
+  s.defects = {which};
+  if (which == "unnormalised") {
+    s.description = "warped with the seed's ray direction (x, y, 1) not normalised: every step is up to 1.7x too long";
+    s.camera.normalize_rays = false;
+  } else {
+    s.description = "warped marched by plain sphere tracing although the warp's Lipschitz bound is 4.5";
+    s.march.marcher = Marcher::sphere;
+  }
   return s;
 }
 
@@ -167,8 +333,9 @@ void flafla_common(Scene& s, glm::dvec3 eye) {
   s.march.hit_eps = 0.001;
   s.march.max_dist = 40;
   s.march.normal_eps = 0.001;
-  s.march.shadow = ShadowMode::none;
   s.lights = {directional_light({-0.3, -1, -0.5}, {1, 1, 1})};
+  s.effects.diffuse = Diffuse::unclamped;  // Unity's dot(-light_dir, n), not clamped
+  s.effects.ambient = 0;
 }
 
 Scene flafla_torus() {
@@ -176,6 +343,15 @@ Scene flafla_torus() {
   const int m = add_material(s, "torus", {0.9, 0.9, 0.9});
   s.root = torus(1, 0.2, m);
   flafla_common(s, {0, 2, 4});
+  return s;
+}
+
+Scene flafla_torus_defect_no_drawdist() {
+  Scene s = flafla_torus();
+  s.name = "flafla-torus-defect-no-drawdist";
+  s.description = "flafla-torus without a draw distance: every miss spends all 64 steps and ends undecided";
+  s.defects = {"no-drawdist"};
+  s.march.max_dist = INFINITY;
   return s;
 }
 
@@ -194,10 +370,13 @@ Scene flafla_csg() {
 
 Scene flafla_materials() {
   Scene s = base("flafla-materials", "Torus, box and sphere whose material values 0.5, 0.25, 0.75 pick ramp colours");
-  // The seed's ramp: blue at 0, green at 0.5, red at 1.
-  const int torus_m = add_material(s, "ramp-0.5", {0.1, 0.9, 0.2});
-  const int box_m = add_material(s, "ramp-0.25", {0.1, 0.5, 0.6});
-  const int sphere_m = add_material(s, "ramp-0.75", {0.6, 0.5, 0.1});
+  const int torus_m = add_material(s, "ramp-0.5", {1, 1, 1});
+  const int box_m = add_material(s, "ramp-0.25", {1, 1, 1});
+  const int sphere_m = add_material(s, "ramp-0.75", {1, 1, 1});
+  s.materials[0].ramp_value = 0.5;
+  s.materials[1].ramp_value = 0.25;
+  s.materials[2].ramp_value = 0.75;
+  s.effects.ramp = {{0.1, 0.2, 0.9}, {0.1, 0.8, 0.3}, {0.95, 0.25, 0.1}};  // blue, green, red
   s.root = unite({torus(1, 0.2, torus_m), translate({-3, 0, 0}, box({0.75, 0.5, 0.5}, box_m)),
                   translate({3, 0, 0}, sphere(1, sphere_m))});
   flafla_common(s, {0, 3, 7});
@@ -218,6 +397,8 @@ const std::vector<std::pair<std::string, std::function<Scene()>>>& registry() {
   static const std::vector<std::pair<std::string, std::function<Scene()>>> r = {
       {"lee-flat", [] { return lee(false); }},
       {"lee-terrain", [] { return lee(true); }},
+      {"lee-textured", lee_textured},
+      {"lee-glass", lee_glass},
       {"crum-torus", crum_torus},
       {"crum-smooth", crum_smooth},
       {"crum-lattice", crum_lattice},
@@ -228,6 +409,19 @@ const std::vector<std::pair<std::string, std::function<Scene()>>>& registry() {
       {"flafla-csg", flafla_csg},
       {"flafla-materials", flafla_materials},
       {"flafla-animated", flafla_animated},
+      // Defect variants: each reproduces one seed defect faithfully; `scenes` lists them as such.
+      {"lee-flat-defect-bias", lee_flat_defect_bias},
+      {"lee-terrain-defect-lipschitz", lee_terrain_defect_lipschitz},
+      {"crum-torus-defect-fov", crum_torus_defect_fov},
+      {"crum-smooth-defect-intersect", [] { return crum_csg_defect(true); }},
+      {"crum-smooth-defect-subtract", [] { return crum_csg_defect(false); }},
+      {"crum-lattice-defect-lipschitz", crum_lattice_defect_lipschitz},
+      {"fogerty-defect-steps", [] { return fogerty_defect("steps"); }},
+      {"fogerty-defect-miss0", [] { return fogerty_defect("miss0"); }},
+      {"fogerty-defect-camera", [] { return fogerty_defect("camera"); }},
+      {"warped-defect-unnormalised", [] { return warped_defect("unnormalised"); }},
+      {"warped-defect-lipschitz", [] { return warped_defect("lipschitz"); }},
+      {"flafla-torus-defect-no-drawdist", flafla_torus_defect_no_drawdist},
   };
   return r;
 }

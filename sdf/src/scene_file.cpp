@@ -82,101 +82,219 @@ glm::dvec3 vec3(const json& v, const std::string& where) {
 }
 json vec3_json(glm::dvec3 v) { return json::array({v.x, v.y, v.z}); }
 
-// One settable key: JSON section, getter and setter. Drives --set, the scene file's "march" and "camera"
-// sections and their export, so the three never disagree.
-struct Setting {
+constexpr EnumName<ShadowBias> kBiases[] = {
+    {ShadowBias::seed_offset, "seed_offset"}, {ShadowBias::seed_ignore, "seed_ignore"}, {ShadowBias::scaled, "scaled"}};
+constexpr EnumName<SoftShadow> kSoftShadows[] = {{SoftShadow::classic, "classic"}, {SoftShadow::improved, "improved"}};
+constexpr EnumName<SpecularModel> kSpeculars[] = {
+    {SpecularModel::none, "none"}, {SpecularModel::phong, "phong"}, {SpecularModel::blinn, "blinn"}};
+constexpr EnumName<TextureMapping> kTextures[] = {
+    {TextureMapping::none, "none"}, {TextureMapping::planar, "planar"}, {TextureMapping::spherical, "spherical"}};
+constexpr EnumName<Diffuse> kDiffuse[] = {
+    {Diffuse::clamped, "clamped"}, {Diffuse::floor, "floor"}, {Diffuse::unclamped, "unclamped"}};
+constexpr EnumName<AmbientOcclusion> kAo[] = {
+    {AmbientOcclusion::none, "none"}, {AmbientOcclusion::steps, "steps"}, {AmbientOcclusion::samples, "samples"}};
+constexpr EnumName<Shading> kShading[] = {{Shading::lambert, "lambert"}, {Shading::toon, "toon"}};
+
+// One settable key of a struct S (the scene, a light, a material): getter and setter through JSON. One table
+// drives --set, reading scene files and writing them, so the three never disagree. A field without a getter
+// is an override (--set only) and is not written.
+template <class S>
+struct Field {
   std::string key;
-  std::function<json(const Scene&)> get;
-  std::function<void(Scene&, const json&, const std::string&)> set;
+  std::function<json(const S&)> get;
+  std::function<void(S&, const json&, const std::string&)> set;
 };
 
-template <class E, size_t N, class M>
-Setting enum_setting(std::string key, const EnumName<E> (&table)[N], M member) {
-  return {key, [&table, member](const Scene& s) { return json(enum_name(table, member(const_cast<Scene&>(s)))); },
-          [&table, member](Scene& s, const json& v, const std::string& w) { member(s) = enum_value(table, v, w); }};
+template <class S, class E, size_t N, class M>
+Field<S> enum_field(std::string key, const EnumName<E> (&table)[N], M member) {
+  return {key, [&table, member](const S& s) { return json(enum_name(table, member(const_cast<S&>(s)))); },
+          [&table, member](S& s, const json& v, const std::string& w) { member(s) = enum_value(table, v, w); }};
 }
-template <class M>
-Setting number_setting(std::string key, M member, double lo, double hi) {
-  return {key, [member](const Scene& s) { return json(member(const_cast<Scene&>(s))); },
-          [member, lo, hi](Scene& s, const json& v, const std::string& w) { member(s) = number(v, w, lo, hi); }};
+template <class S, class M>
+Field<S> number_field(std::string key, M member, double lo, double hi) {
+  return {key, [member](const S& s) { return json(member(const_cast<S&>(s))); },
+          [member, lo, hi](S& s, const json& v, const std::string& w) { member(s) = number(v, w, lo, hi); }};
 }
-template <class M>
-Setting int_setting(std::string key, M member, int lo, int hi) {
-  return {key, [member](const Scene& s) { return json(member(const_cast<Scene&>(s))); },
-          [member, lo, hi](Scene& s, const json& v, const std::string& w) { member(s) = integer(v, w, lo, hi); }};
+template <class S, class M>
+Field<S> int_field(std::string key, M member, int lo, int hi) {
+  return {key, [member](const S& s) { return json(member(const_cast<S&>(s))); },
+          [member, lo, hi](S& s, const json& v, const std::string& w) { member(s) = integer(v, w, lo, hi); }};
 }
-template <class M>
-Setting vec3_setting(std::string key, M member) {
-  return {key, [member](const Scene& s) { return vec3_json(member(const_cast<Scene&>(s))); },
-          [member](Scene& s, const json& v, const std::string& w) { member(s) = vec3(v, w); }};
+template <class S, class M>
+Field<S> vec3_field(std::string key, M member) {
+  return {key, [member](const S& s) { return vec3_json(member(const_cast<S&>(s))); },
+          [member](S& s, const json& v, const std::string& w) { member(s) = vec3(v, w); }};
+}
+template <class S, class M>
+Field<S> bool_field(std::string key, M member) {
+  return {key, [member](const S& s) { return json(member(const_cast<S&>(s))); },
+          [member](S& s, const json& v, const std::string& w) {
+            if (!v.is_boolean()) fail(w, "expected true or false");
+            member(s) = v.get<bool>();
+          }};
 }
 
-#define MEMBER(expr) [](Scene& s) -> auto& { return s.expr; }
+#define MEMBER(S, expr) [](S& s) -> auto& { return s.expr; }
 
-const std::vector<Setting>& settings() {
-  static const std::vector<Setting> table = {
-      enum_setting("marcher", kMarchers, MEMBER(march.marcher)),
-      int_setting("max_steps", MEMBER(march.max_steps), 0, 1 << 24),
-      number_setting("max_dist", MEMBER(march.max_dist), 0, INFINITY),
-      number_setting("hit_eps", MEMBER(march.hit_eps), 0, 1e6),
-      enum_setting("eps_mode", kEpsModes, MEMBER(march.eps_mode)),
-      number_setting("step_scale", MEMBER(march.step_scale), 1e-6, 2),
-      number_setting("relaxation", MEMBER(march.relaxation), 1, 2),
-      number_setting("fixed_step", MEMBER(march.fixed_step), 1e-9, 1e6),
-      enum_setting("normal", kNormals, MEMBER(march.normal)),
-      number_setting("normal_eps", MEMBER(march.normal_eps), 1e-12, 1),
-      {"normal_eps_scaled", [](const Scene& s) { return json(s.march.normal_eps_scaled); },
-       [](Scene& s, const json& v, const std::string& w) {
-         if (!v.is_boolean()) fail(w, "expected true or false");
-         s.march.normal_eps_scaled = v.get<bool>();
+const std::vector<Field<Light>>& light_fields() {
+  static const std::vector<Field<Light>> table = {
+      enum_field<Light>("type", kLightTypes, MEMBER(Light, type)),
+      vec3_field<Light>("position", MEMBER(Light, position)),
+      vec3_field<Light>("direction", MEMBER(Light, direction)),
+      vec3_field<Light>("color", MEMBER(Light, color)),
+      vec3_field<Light>("motion_sin", MEMBER(Light, motion_sin)),
+      vec3_field<Light>("motion_cos", MEMBER(Light, motion_cos)),
+      number_field<Light>("motion_rate", MEMBER(Light, motion_rate), -1e6, 1e6),
+      enum_field<Light>("shadow", kShadows, MEMBER(Light, shadow)),
+      enum_field<Light>("bias", kBiases, MEMBER(Light, bias)),
+      number_field<Light>("bias_factor", MEMBER(Light, bias_factor), 0, 1e6),
+      number_field<Light>("darkening", MEMBER(Light, darkening), 0, 1),
+      enum_field<Light>("soft", kSoftShadows, MEMBER(Light, soft)),
+      number_field<Light>("penumbra", MEMBER(Light, penumbra), 1e-3, 1e6),
+  };
+  return table;
+}
+
+const std::vector<Field<Material>>& material_fields() {
+  static const std::vector<Field<Material>> table = {
+      {"name", [](const Material& m) { return json(m.name); },
+       [](Material& m, const json& v, const std::string& w) {
+         if (!v.is_string()) fail(w, "expected a string");
+         m.name = v.get<std::string>();
        }},
-      enum_setting("shadow", kShadows, MEMBER(march.shadow)),
-      number_setting("shadow_bias", MEMBER(march.shadow_bias), 0, 1e6),
-      enum_setting("precision", kPrecisions, MEMBER(march.precision)),
-      number_setting("time", MEMBER(time), -1e6, 1e6),
-      int_setting("width", MEMBER(width), 1, 16384),
-      int_setting("height", MEMBER(height), 1, 16384),
-      enum_setting("camera.model", kCameraModels, MEMBER(camera.model)),
-      enum_setting("camera.pose", kCameraPoses, MEMBER(camera.pose)),
-      vec3_setting("camera.position", MEMBER(camera.position)),
-      vec3_setting("camera.target", MEMBER(camera.target)),
-      vec3_setting("camera.up", MEMBER(camera.up)),
-      number_setting("camera.yaw_deg", MEMBER(camera.yaw_deg), -1e6, 1e6),
-      number_setting("camera.pitch_deg", MEMBER(camera.pitch_deg), -89.9, 89.9),
-      number_setting("camera.distance", MEMBER(camera.distance), 1e-9, 1e12),
-      number_setting("camera.fov_deg", MEMBER(camera.fov_deg), 1e-3, 179),
-      number_setting("camera.fx", MEMBER(camera.fx), 1e-6, 1e9),
-      number_setting("camera.fy", MEMBER(camera.fy), 1e-6, 1e9),
-      number_setting("camera.cx", MEMBER(camera.cx), -1, 1e9),
-      number_setting("camera.cy", MEMBER(camera.cy), -1, 1e9),
-      number_setting("camera.k1", MEMBER(camera.k1), -10, 10),
-      number_setting("camera.k2", MEMBER(camera.k2), -10, 10),
-      number_setting("camera.p1", MEMBER(camera.p1), -10, 10),
-      number_setting("camera.p2", MEMBER(camera.p2), -10, 10),
-      number_setting("camera.ortho_height", MEMBER(camera.ortho_height), 1e-12, 1e12),
-      vec3_setting("effects.background", MEMBER(effects.background)),
-      number_setting("effects.ambient", MEMBER(effects.ambient), 0, 1),
+      vec3_field<Material>("color", MEMBER(Material, color)),
+      enum_field<Material>("specular", kSpeculars, MEMBER(Material, specular)),
+      number_field<Material>("specular_strength", MEMBER(Material, specular_strength), 0, 1e3),
+      number_field<Material>("shininess", MEMBER(Material, shininess), 0, 1e5),
+      number_field<Material>("reflectivity", MEMBER(Material, reflectivity), 0, 1),
+      number_field<Material>("transparency", MEMBER(Material, transparency), 0, 1),
+      number_field<Material>("ior", MEMBER(Material, ior), 1, 4),
+      number_field<Material>("density", MEMBER(Material, density), 0, 1e6),
+      enum_field<Material>("texture", kTextures, MEMBER(Material, texture)),
+      number_field<Material>("texture_scale", MEMBER(Material, texture_scale), 1e-9, 1e9),
+      number_field<Material>("ramp_value", MEMBER(Material, ramp_value), -1, 1),
+  };
+  return table;
+}
+
+const std::vector<Field<Scene>>& settings() {
+  static const std::vector<Field<Scene>> table = {
+      enum_field<Scene>("marcher", kMarchers, MEMBER(Scene, march.marcher)),
+      int_field<Scene>("max_steps", MEMBER(Scene, march.max_steps), 0, 1 << 24),
+      number_field<Scene>("max_dist", MEMBER(Scene, march.max_dist), 0, INFINITY),
+      number_field<Scene>("hit_eps", MEMBER(Scene, march.hit_eps), 0, 1e6),
+      enum_field<Scene>("eps_mode", kEpsModes, MEMBER(Scene, march.eps_mode)),
+      number_field<Scene>("step_scale", MEMBER(Scene, march.step_scale), 1e-6, 2),
+      number_field<Scene>("relaxation", MEMBER(Scene, march.relaxation), 1, 2),
+      number_field<Scene>("fixed_step", MEMBER(Scene, march.fixed_step), 1e-9, 1e6),
+      enum_field<Scene>("normal", kNormals, MEMBER(Scene, march.normal)),
+      number_field<Scene>("normal_eps", MEMBER(Scene, march.normal_eps), 1e-12, 1),
+      bool_field<Scene>("normal_eps_scaled", MEMBER(Scene, march.normal_eps_scaled)),
+      enum_field<Scene>("precision", kPrecisions, MEMBER(Scene, march.precision)),
+      bool_field<Scene>("miss_as_zero", MEMBER(Scene, march.miss_as_zero)),
+      // Overrides for every light at once.
+      {"shadow", nullptr,
+       [](Scene& s, const json& v, const std::string& w) {
+         for (auto& l : s.lights) l.shadow = enum_value(kShadows, v, w);
+       }},
+      {"shadow_bias", nullptr,
+       [](Scene& s, const json& v, const std::string& w) {
+         for (auto& l : s.lights) l.bias = enum_value(kBiases, v, w);
+       }},
+      number_field<Scene>("time", MEMBER(Scene, time), -1e6, 1e6),
+      int_field<Scene>("width", MEMBER(Scene, width), 1, 16384),
+      int_field<Scene>("height", MEMBER(Scene, height), 1, 16384),
+      enum_field<Scene>("camera.model", kCameraModels, MEMBER(Scene, camera.model)),
+      enum_field<Scene>("camera.pose", kCameraPoses, MEMBER(Scene, camera.pose)),
+      vec3_field<Scene>("camera.position", MEMBER(Scene, camera.position)),
+      vec3_field<Scene>("camera.target", MEMBER(Scene, camera.target)),
+      vec3_field<Scene>("camera.up", MEMBER(Scene, camera.up)),
+      number_field<Scene>("camera.yaw_deg", MEMBER(Scene, camera.yaw_deg), -1e6, 1e6),
+      number_field<Scene>("camera.pitch_deg", MEMBER(Scene, camera.pitch_deg), -89.9, 89.9),
+      number_field<Scene>("camera.distance", MEMBER(Scene, camera.distance), 1e-9, 1e12),
+      number_field<Scene>("camera.fov_deg", MEMBER(Scene, camera.fov_deg), 1e-3, 179),
+      number_field<Scene>("camera.fx", MEMBER(Scene, camera.fx), 1e-6, 1e9),
+      number_field<Scene>("camera.fy", MEMBER(Scene, camera.fy), 1e-6, 1e9),
+      number_field<Scene>("camera.cx", MEMBER(Scene, camera.cx), -1, 1e9),
+      number_field<Scene>("camera.cy", MEMBER(Scene, camera.cy), -1, 1e9),
+      number_field<Scene>("camera.k1", MEMBER(Scene, camera.k1), -10, 10),
+      number_field<Scene>("camera.k2", MEMBER(Scene, camera.k2), -10, 10),
+      number_field<Scene>("camera.p1", MEMBER(Scene, camera.p1), -10, 10),
+      number_field<Scene>("camera.p2", MEMBER(Scene, camera.p2), -10, 10),
+      number_field<Scene>("camera.ortho_height", MEMBER(Scene, camera.ortho_height), 1e-12, 1e12),
+      bool_field<Scene>("camera.fov_full_height", MEMBER(Scene, camera.fov_full_height)),
+      bool_field<Scene>("camera.normalize_rays", MEMBER(Scene, camera.normalize_rays)),
+      vec3_field<Scene>("effects.background", MEMBER(Scene, effects.background)),
+      number_field<Scene>("effects.ambient", MEMBER(Scene, effects.ambient), 0, 1),
+      enum_field<Scene>("effects.diffuse", kDiffuse, MEMBER(Scene, effects.diffuse)),
+      number_field<Scene>("effects.diffuse_floor", MEMBER(Scene, effects.diffuse_floor), 0, 1),
+      enum_field<Scene>("effects.shading", kShading, MEMBER(Scene, effects.shading)),
+      int_field<Scene>("effects.toon_bands", MEMBER(Scene, effects.toon_bands), 2, 64),
+      number_field<Scene>("effects.silhouette", MEMBER(Scene, effects.silhouette), 0, 1),
+      enum_field<Scene>("effects.ao", kAo, MEMBER(Scene, effects.ao)),
+      number_field<Scene>("effects.ao_steps_scale", MEMBER(Scene, effects.ao_steps_scale), 0, 1),
+      int_field<Scene>("effects.ao_samples", MEMBER(Scene, effects.ao_samples), 1, 64),
+      number_field<Scene>("effects.ao_distance", MEMBER(Scene, effects.ao_distance), 1e-9, 1e9),
+      number_field<Scene>("effects.glow", MEMBER(Scene, effects.glow), 0, 1e3),
+      number_field<Scene>("effects.glow_width", MEMBER(Scene, effects.glow_width), 1e-9, 1e9),
+      vec3_field<Scene>("effects.glow_color", MEMBER(Scene, effects.glow_color)),
+      number_field<Scene>("effects.fog", MEMBER(Scene, effects.fog), 0, 1e6),
+      vec3_field<Scene>("effects.fog_color", MEMBER(Scene, effects.fog_color)),
+      int_field<Scene>("effects.max_bounces", MEMBER(Scene, effects.max_bounces), 0, 16),
+      {"effects.ramp",
+       [](const Scene& s) {
+         json list = json::array();
+         for (const auto& c : s.effects.ramp) list.push_back(vec3_json(c));
+         return list;
+       },
+       [](Scene& s, const json& v, const std::string& w) {
+         if (!v.is_array()) fail(w, "expected an array of colours");
+         s.effects.ramp.clear();
+         for (size_t i = 0; i < v.size(); ++i) s.effects.ramp.push_back(vec3(v[i], w + "/" + std::to_string(i)));
+       }},
+      bool_field<Scene>("effects.eye_is_ray_direction", MEMBER(Scene, effects.eye_is_ray_direction)),
   };
   return table;
 }
 
 #undef MEMBER
 
-const Setting* find_setting(std::string_view key) {
+const Field<Scene>* find_setting(std::string_view key) {
   for (const auto& s : settings())
     if (s.key == key) return &s;
   return nullptr;
 }
 
-// The settings of one section ("" = top level keys without a dot).
-std::vector<const Setting*> section(std::string_view prefix) {
-  std::vector<const Setting*> out;
+// The settings of one section ("" = top-level keys without a dot) that scene files carry.
+std::vector<const Field<Scene>*> section(std::string_view prefix) {
+  std::vector<const Field<Scene>*> out;
   for (const auto& s : settings()) {
     const auto dot = s.key.find('.');
     const std::string_view head = dot == std::string::npos ? "" : std::string_view(s.key).substr(0, dot);
-    if (head == prefix) out.push_back(&s);
+    if (head == prefix && s.get) out.push_back(&s);
   }
   return out;
+}
+
+template <class S>
+json write_fields(const S& value, const std::vector<Field<S>>& fields) {
+  json j = json::object();
+  for (const auto& f : fields) j[f.key] = f.get(value);
+  return j;
+}
+
+template <class S>
+void read_fields(S& value, const json& j, const std::vector<Field<S>>& fields, const std::string& where) {
+  if (!j.is_object()) fail(where, "expected an object");
+  for (const auto& [key, v] : j.items()) {
+    auto f = std::find_if(fields.begin(), fields.end(), [&](const Field<S>& x) { return x.key == key; });
+    if (f == fields.end()) {
+      std::string expected;
+      for (const auto& x : fields) expected += (expected.empty() ? "" : ", ") + x.key;
+      fail(where + "/" + key, "unknown key; expected one of " + expected);
+    }
+    f->set(value, v, where + "/" + key);
+  }
 }
 
 // A --set value as JSON: a number, true/false, a comma list of numbers, else a string.
@@ -332,6 +450,33 @@ std::pair<int, int> line_column(std::string_view text, size_t byte) {
 
 }  // namespace
 
+std::vector<std::string> declared_effects(const Scene& scene) {
+  std::vector<std::string> out;
+  auto add = [&](const std::string& e) {
+    if (std::find(out.begin(), out.end(), e) == out.end()) out.push_back(e);
+  };
+  const auto& fx = scene.effects;
+  if (!scene.lights.empty()) add(fx.shading == Shading::toon ? "toon" : "diffuse:" + enum_name(kDiffuse, fx.diffuse));
+  for (const auto& l : scene.lights) {
+    if (l.shadow != ShadowMode::none) add("shadow:" + enum_name(kShadows, l.shadow) + "/" + enum_name(kBiases, l.bias));
+    if (l.motion_rate != 0) add("moving-light");
+  }
+  for (const auto& m : scene.materials) {
+    if (m.specular != SpecularModel::none) add("specular:" + enum_name(kSpeculars, m.specular));
+    if (m.texture != TextureMapping::none) add("texture:" + enum_name(kTextures, m.texture));
+    if (m.reflectivity > 0 && fx.max_bounces > 0) add("reflection");
+    if (m.transparency > 0 && fx.max_bounces > 0) add("refraction");
+    if (m.ramp_value >= 0 && !fx.ramp.empty()) add("ramp");
+  }
+  if (fx.ao != AmbientOcclusion::none) add("ao:" + enum_name(kAo, fx.ao));
+  if (fx.glow > 0) add("glow");
+  if (fx.fog > 0) add("fog");
+  if (scene.camera.model == CameraModel::intrinsics &&
+      (scene.camera.k1 != 0 || scene.camera.k2 != 0 || scene.camera.p1 != 0 || scene.camera.p2 != 0))
+    add("lens-distortion");
+  return out;
+}
+
 int find_material(const Scene& scene, std::string_view name) {
   for (size_t i = 0; i < scene.materials.size(); ++i)
     if (scene.materials[i].name == name) return static_cast<int>(i);
@@ -339,7 +484,7 @@ int find_material(const Scene& scene, std::string_view name) {
 }
 
 void apply_setting(Scene& scene, std::string_view key, std::string_view value) {
-  const Setting* s = find_setting(key);
+  const Field<Scene>* s = find_setting(key);
   if (!s) {
     std::string names;
     for (const auto& k : settings()) names += std::string(names.empty() ? "" : ", ") + k.key;
@@ -358,25 +503,19 @@ std::string scene_to_json(const Scene& scene) {
   json j;
   j["name"] = scene.name;
   j["description"] = scene.description;
+  if (!scene.defects.empty()) j["defects"] = scene.defects;
   for (const auto* s : section("")) j[s->key] = s->get(scene);
   j["camera"] = write_section(scene, "camera");
+  j["effects"] = write_section(scene, "effects");
   json materials = json::array();
-  for (const auto& m : scene.materials) materials.push_back({{"name", m.name}, {"color", vec3_json(m.color)}});
+  for (const auto& m : scene.materials) materials.push_back(write_fields(m, material_fields()));
   j["materials"] = materials;
   json lights = json::array();
-  for (const auto& l : scene.lights) {
-    json lj = {{"type", enum_name(kLightTypes, l.type)}, {"color", vec3_json(l.color)}};
-    if (l.type == LightType::point) {
-      lj["position"] = vec3_json(l.position);
-    } else {
-      lj["direction"] = vec3_json(l.direction);
-    }
-    lights.push_back(lj);
-  }
+  for (const auto& l : scene.lights) lights.push_back(write_fields(l, light_fields()));
   j["lights"] = lights;
-  j["effects"] = write_section(scene, "effects");
   j["limits"] = scene.limits;
   j["sdf"] = node_to_json(scene.root, scene);
+  if (scene.intended) j["intended_sdf"] = node_to_json(*scene.intended, scene);
   return j.dump(2) + "\n";
 }
 
@@ -392,17 +531,21 @@ Scene scene_from_json(std::string_view text, const std::string& source) {
   }
   try {
     Scene scene;
-    std::vector<std::string> allowed = {"name", "description", "camera", "materials", "lights",
-                                        "effects", "limits", "sdf"};
+    std::vector<std::string> allowed = {"name",   "description", "defects", "camera", "materials", "lights",
+                                        "effects", "limits",     "sdf",     "intended_sdf"};
     for (const auto* s : section("")) allowed.push_back(s->key);
     check_keys(j, "", allowed);
-    if (j.contains("name")) {
-      if (!j["name"].is_string()) fail("/name", "expected a string");
-      scene.name = j["name"].get<std::string>();
-    }
-    if (j.contains("description")) {
-      if (!j["description"].is_string()) fail("/description", "expected a string");
-      scene.description = j["description"].get<std::string>();
+    for (const char* key : {"name", "description"})
+      if (j.contains(key)) {
+        if (!j[key].is_string()) fail(std::string("/") + key, "expected a string");
+        (std::string_view(key) == "name" ? scene.name : scene.description) = j[key].get<std::string>();
+      }
+    if (j.contains("defects")) {
+      if (!j["defects"].is_array()) fail("/defects", "expected an array of names");
+      for (size_t i = 0; i < j["defects"].size(); ++i) {
+        if (!j["defects"][i].is_string()) fail("/defects/" + std::to_string(i), "expected a string");
+        scene.defects.push_back(j["defects"][i].get<std::string>());
+      }
     }
     for (const auto* s : section(""))
       if (j.contains(s->key)) s->set(scene, j[s->key], "/" + s->key);
@@ -411,35 +554,22 @@ Scene scene_from_json(std::string_view text, const std::string& source) {
     if (j.contains("materials")) {
       if (!j["materials"].is_array()) fail("/materials", "expected an array");
       for (size_t i = 0; i < j["materials"].size(); ++i) {
-        const json& m = j["materials"][i];
         const std::string where = "/materials/" + std::to_string(i);
-        check_keys(m, where, {"name", "color"});
-        if (!m.contains("name") || !m["name"].is_string()) fail(where, "needs a \"name\" (a string)");
         Material mat;
-        mat.name = m["name"].get<std::string>();
+        read_fields(mat, j["materials"][i], material_fields(), where);
+        if (mat.name.empty()) fail(where, "needs a \"name\"");
         if (find_material(scene, mat.name) >= 0) fail(where + "/name", "duplicate material '" + mat.name + "'");
-        if (m.contains("color")) mat.color = vec3(m["color"], where + "/color");
         scene.materials.push_back(mat);
       }
     }
     if (j.contains("lights")) {
       if (!j["lights"].is_array()) fail("/lights", "expected an array");
       for (size_t i = 0; i < j["lights"].size(); ++i) {
-        const json& l = j["lights"][i];
         const std::string where = "/lights/" + std::to_string(i);
-        check_keys(l, where, {"type", "position", "direction", "color"});
         Light light;
-        if (!l.contains("type")) fail(where, "needs a \"type\" (point or directional)");
-        light.type = enum_value(kLightTypes, l["type"], where + "/type");
-        if (light.type == LightType::point) {
-          if (!l.contains("position")) fail(where, "a point light needs \"position\"");
-          light.position = vec3(l["position"], where + "/position");
-        } else {
-          if (!l.contains("direction")) fail(where, "a directional light needs \"direction\"");
-          light.direction = vec3(l["direction"], where + "/direction");
-          if (glm::length(light.direction) == 0) fail(where + "/direction", "must not be zero");
-        }
-        if (l.contains("color")) light.color = vec3(l["color"], where + "/color");
+        read_fields(light, j["lights"][i], light_fields(), where);
+        if (light.type == LightType::directional && glm::length(light.direction) == 0)
+          fail(where + "/direction", "must not be zero");
         scene.lights.push_back(light);
       }
     }
@@ -450,6 +580,10 @@ Scene scene_from_json(std::string_view text, const std::string& source) {
     if (!j.contains("sdf")) fail("", "missing \"sdf\" (the scene's shape tree)");
     scene.root = node_from_json(j["sdf"], "/sdf", scene, 0);
     if (auto error = validate_tree(scene.root); !error.empty()) throw SceneError("/sdf" + error);
+    if (j.contains("intended_sdf")) {
+      scene.intended = node_from_json(j["intended_sdf"], "/intended_sdf", scene, 0);
+      if (auto error = validate_tree(*scene.intended); !error.empty()) throw SceneError("/intended_sdf" + error);
+    }
     return scene;
   } catch (const SceneError& e) {
     throw SceneError(source + ": " + e.what());

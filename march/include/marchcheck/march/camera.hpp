@@ -12,7 +12,7 @@ namespace marchcheck::march {
 
 struct Ray {
   glm::dvec3 origin;
-  glm::dvec3 direction;  // unit length
+  glm::dvec3 direction;  // unit length, unless the spec reproduces a seed that forgets to normalise
 };
 
 class Camera {

@@ -56,8 +56,9 @@ struct RenderResult {
   double evals_per_pixel() const;
 };
 
-// Renders at the scene's width and height.
-RenderResult render(const sdf::Scene& scene);
+// Renders at the scene's width and height. Only what the scene declares (and the AOVs asked for) is computed:
+// an undeclared stage spends no evaluation and no time.
+RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs = {});
 
 // Dotted cost metrics: cost.stages.<stage>.evals/.seconds, cost.evals_per_pixel, cost.steps_max, cost.seconds.
 std::map<std::string, double> cost_metrics(const RenderResult& result);

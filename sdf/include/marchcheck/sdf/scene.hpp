@@ -6,7 +6,9 @@
 
 #include <glm/glm.hpp>
 
+#include <cmath>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -17,6 +19,11 @@ enum class Marcher { sphere, relaxed, fixed, scaled };
 enum class EpsMode { absolute, relative, pixel };
 enum class NormalMethod { central, forward, tetra, analytic };
 enum class ShadowMode { none, hard, soft };
+// Where a hard shadow ray starts and which hits count. seed_offset: start at p + bias * hit_eps * n (Lee's
+// 10 * SURF_DIST); seed_ignore: start at p + hit_eps * n and ignore hits closer than bias * hit_eps; scaled:
+// start at p + n * (hit threshold at t + bias * float epsilon * (|p| + t)), which holds at any scene scale.
+enum class ShadowBias { seed_offset, seed_ignore, scaled };
+enum class SoftShadow { classic, improved };
 enum class Precision { single, dual };  // float or double arithmetic in the march
 
 struct MarchSettings {
@@ -31,14 +38,27 @@ struct MarchSettings {
   NormalMethod normal = NormalMethod::central;
   double normal_eps = 1e-3;
   bool normal_eps_scaled = false;  // normal_eps * t instead of an absolute epsilon
-  ShadowMode shadow = ShadowMode::hard;
-  double shadow_bias = 0.1;
   Precision precision = Precision::single;
+  // How the renderer reads the record, as a seed consumer would: a miss reported as distance 0 (fogerty).
+  bool miss_as_zero = false;
 };
+
+enum class SpecularModel { none, phong, blinn };
+enum class TextureMapping { none, planar, spherical };
 
 struct Material {
   std::string name;
   glm::dvec3 color{0.8};
+  SpecularModel specular = SpecularModel::none;
+  double specular_strength = 0;
+  double shininess = 10;
+  double reflectivity = 0;  // mirror reflection weight
+  double transparency = 0;  // refraction weight (Schlick Fresnel splits it with reflection)
+  double ior = 1.5;
+  double density = 0;  // the Lee seed's per-material density; kept for scene files, not rendered
+  TextureMapping texture = TextureMapping::none;
+  double texture_scale = 1;
+  double ramp_value = -1;  // >= 0: colour from the scene's ramp at this value
 };
 
 enum class LightType { point, directional };
@@ -48,6 +68,19 @@ struct Light {
   glm::dvec3 position{0, 5, 0};
   glm::dvec3 direction{0, -1, 0};  // direction the light travels, for directional lights
   glm::dvec3 color{1};
+  // Point lights move: position + motion_sin sin(motion_rate t) + motion_cos cos(motion_rate t).
+  glm::dvec3 motion_sin{0}, motion_cos{0};
+  double motion_rate = 0;
+  ShadowMode shadow = ShadowMode::none;
+  ShadowBias bias = ShadowBias::scaled;
+  double bias_factor = 10;
+  double darkening = 0;  // light kept in full shadow (Lee: 0.3)
+  SoftShadow soft = SoftShadow::improved;
+  double penumbra = 8;  // soft shadow k
+
+  glm::dvec3 position_at(double time) const {
+    return position + motion_sin * std::sin(motion_rate * time) + motion_cos * std::cos(motion_rate * time);
+  }
 };
 
 enum class CameraModel { pinhole, intrinsics, frustum, orthographic };
@@ -65,11 +98,37 @@ struct CameraSpec {
   double cx = -1, cy = -1;
   double k1 = 0, k2 = 0, p1 = 0, p2 = 0;  // Brown-Conrady
   double ortho_height = 4;                // orthographic: world units the image height spans
+  // The crum seed's defect: focal length from the full image height instead of half of it.
+  bool fov_full_height = false;
+  // The warped seed's defect: rays not normalised (direction (x, y, 1) as given).
+  bool normalize_rays = true;
 };
+
+enum class Diffuse { clamped, floor, unclamped };
+enum class AmbientOcclusion { none, steps, samples };
+enum class Shading { lambert, toon };
 
 struct Effects {
   glm::dvec3 background{0};
   double ambient = 0.1;
+  Diffuse diffuse = Diffuse::clamped;
+  double diffuse_floor = 0.2;
+  Shading shading = Shading::lambert;
+  int toon_bands = 4;
+  double silhouette = 0;  // toon: black where dot(to camera, n) < silhouette
+  AmbientOcclusion ao = AmbientOcclusion::none;
+  double ao_steps_scale = 1.0 / 3000;  // steps: colour -= steps^2 * scale
+  int ao_samples = 5;
+  double ao_distance = 0.1;  // samples: spacing along the normal
+  double glow = 0;           // glow on misses from the smallest |f| seen (strength; 0 = off)
+  double glow_width = 0.1;
+  glm::dvec3 glow_color{1, 0.8, 0.4};
+  double fog = 0;  // density per unit distance (0 = off)
+  glm::dvec3 fog_color{0.7};
+  int max_bounces = 0;  // reflection and refraction depth
+  std::vector<glm::dvec3> ramp;  // colour ramp for materials with a ramp value
+  // The fogerty seed's defect: the ray direction used where the camera position belongs.
+  bool eye_is_ray_direction = false;
 };
 
 struct Scene {
@@ -84,11 +143,18 @@ struct Scene {
   Effects effects;
   MarchSettings march;
   std::map<std::string, double> limits;  // per-check limits this scene sets
+  // What the scene means to draw when root is a faithful reproduction of a defect (for example the seed's
+  // intersection that ignores its first shape): validation builds its references from this tree.
+  std::optional<Node> intended;
+  std::vector<std::string> defects;  // which seed defects this variant reproduces ("" = a correct scene)
 };
 
 struct SceneError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// The effects a scene declares, as short names ("shadow:hard", "specular", "texture", "ao:steps", ...).
+std::vector<std::string> declared_effects(const Scene& scene);
 
 // Index of the named material; -1 when there is none.
 int find_material(const Scene& scene, std::string_view name);
