@@ -153,7 +153,8 @@ glm::dvec3 direct_light(const Context& ctx, glm::dvec3 p, glm::dvec3 n, glm::dve
                         const double* visibility, double ao) {
   const auto& fx = ctx.scene.effects;
   const sdf::Material* m = material >= 0 ? &ctx.scene.materials[static_cast<size_t>(material)] : nullptr;
-  const glm::dvec3 to_eye = glm::normalize(eye - p);
+  // An eye on the surface point (a miss read as a hit at the ray origin) has no direction: face the normal.
+  const glm::dvec3 to_eye = glm::length(eye - p) > 0 ? glm::normalize(eye - p) : n;
   glm::dvec3 color = albedo * fx.ambient * ao;
   for (size_t i = 0; i < ctx.scene.lights.size(); ++i) {
     const auto& light = ctx.scene.lights[i];

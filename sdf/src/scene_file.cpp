@@ -59,9 +59,13 @@ E enum_value(const EnumName<E> (&table)[N], const json& v, const std::string& wh
   fail(where, "'" + v.get<std::string>() + "' is not one of " + names);
 }
 
+// JSON has no infinity: scene files spell it "inf" (max_dist, for instance).
+json number_json(double x) { return std::isinf(x) ? json(x > 0 ? "inf" : "-inf") : json(x); }
+
 double number(const json& v, const std::string& where, double lo = -1e300, double hi = 1e300) {
-  if (!v.is_number()) fail(where, "expected a number, got " + std::string(v.type_name()));
-  const double x = v.get<double>();
+  const bool infinite = v.is_string() && (v.get<std::string>() == "inf" || v.get<std::string>() == "-inf");
+  if (!v.is_number() && !infinite) fail(where, "expected a number, got " + std::string(v.type_name()));
+  const double x = infinite ? (v.get<std::string>() == "inf" ? INFINITY : -INFINITY) : v.get<double>();
   if (!(x >= lo && x <= hi)) {
     std::ostringstream s;
     s << "value " << x << " is out of range [" << lo << ", " << hi << "]";
@@ -112,7 +116,7 @@ Field<S> enum_field(std::string key, const EnumName<E> (&table)[N], M member) {
 }
 template <class S, class M>
 Field<S> number_field(std::string key, M member, double lo, double hi) {
-  return {key, [member](const S& s) { return json(member(const_cast<S&>(s))); },
+  return {key, [member](const S& s) { return number_json(member(const_cast<S&>(s))); },
           [member, lo, hi](S& s, const json& v, const std::string& w) { member(s) = number(v, w, lo, hi); }};
 }
 template <class S, class M>
