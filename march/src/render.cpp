@@ -239,22 +239,32 @@ struct Tracer {
     return evals;
   }
 
-  // Mixes in mirror reflection and refraction (Schlick-weighted) for materials that declare them.
+  // Mixes in mirror reflection and refraction (Schlick-weighted) for materials that declare them. The
+  // primary bounce (depth 0) books the time of each kind; deeper bounces are inside that time.
   glm::dvec3 bounce(glm::dvec3 local, Vec<T> p, Vec<T> n, Vec<T> dir, int material, int depth, T t) {
     if (material < 0 || depth >= ctx.scene.effects.max_bounces) return local;
     const auto& m = ctx.scene.materials[static_cast<size_t>(material)];
     if (m.reflectivity <= 0 && m.transparency <= 0) return local;
+    auto timed = [&](Stage stage, auto&& fn) {
+      if (depth > 0) return fn();
+      const auto start = Clock::now();
+      const glm::dvec3 c = fn();
+      counters.stages[stage].seconds += since(start);
+      return c;
+    };
     const T offset = T(2) * hit_threshold(ctx.scene.march, ctx.march, t) + T(1e-4);
-    const Vec<T> reflected_dir = glm::reflect(dir, n);
-    const glm::dvec3 reflected = trace(p + n * offset, reflected_dir, depth + 1, kReflection);
+    const glm::dvec3 reflected =
+        timed(kReflection, [&] { return trace(p + n * offset, glm::reflect(dir, n), depth + 1, kReflection); });
     glm::dvec3 color = glm::mix(local, reflected, m.reflectivity);
     if (m.transparency > 0) {
-      const TapeField field{&ctx.tape};
-      const auto through = refract_through<T>(field, p, n, dir, m.ior, ctx.scene.march, ctx.march,
-                                             normal_epsilon(ctx.scene.march, t));
-      counters.stages[kRefraction].evals += static_cast<std::uint64_t>(through.evals);
-      const glm::dvec3 refracted = through.ok ? trace(through.exit_point, through.exit_direction, depth + 1, kRefraction)
-                                              : ctx.scene.effects.background;
+      const glm::dvec3 refracted = timed(kRefraction, [&] {
+        const TapeField field{&ctx.tape};
+        const auto through = refract_through<T>(field, p, n, dir, m.ior, ctx.scene.march, ctx.march,
+                                               normal_epsilon(ctx.scene.march, t));
+        counters.stages[kRefraction].evals += static_cast<std::uint64_t>(through.evals);
+        return through.ok ? trace(through.exit_point, through.exit_direction, depth + 1, kRefraction)
+                          : ctx.scene.effects.background;
+      });
       const double fresnel = schlick_fresnel(-glm::dot(glm::dvec3(dir), glm::dvec3(n)), 1.0, m.ior);
       color = glm::mix(color, fresnel * reflected + (1 - fresnel) * refracted, m.transparency);
     }
@@ -384,10 +394,8 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     *out.id.at(x, y) = static_cast<float>(p.material);
     *out.outcome.at(x, y) = static_cast<float>(p.record.outcome);
   });
-  // Secondary rays run inside the shading loop: their time is taken out of it and booked as reflection
-  // (refraction rays spawn reflection rays too; their evaluations are booked apart, their time together).
+  // Secondary rays run inside the shading loop and book their own time: take it out of shading's.
   counters.stages[kShade].seconds += since(start) - bounce_seconds;
-  counters.stages[kReflection].seconds += bounce_seconds;
 }
 
 }  // namespace

@@ -1,0 +1,276 @@
+// Each effect: its numbers on analytic set-ups, its zero cost when undeclared, its change to the image when declared.
+#include "marchcheck/march/effects.hpp"
+#include "marchcheck/march/render.hpp"
+#include "marchcheck/sdf/node.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <numbers>
+
+namespace marchcheck::march {
+namespace {
+
+using V = glm::dvec3;
+
+// Ground plane y = 0 with a sphere of radius 0.5 at (0, 1, 0) above it.
+const sdf::Tape kGround = sdf::compile(sdf::unite({sdf::plane({0, 1, 0}, 0), sdf::translate({0, 1, 0}, sdf::sphere(0.5))}));
+
+sdf::Light overhead(sdf::ShadowMode mode, sdf::ShadowBias bias) {
+  sdf::Light l;
+  l.type = sdf::LightType::directional;
+  l.direction = {0, -1, 0};
+  l.shadow = mode;
+  l.bias = bias;
+  return l;
+}
+
+MarchSettings seed_settings() {
+  MarchSettings s;
+  s.hit_eps = 0.01;
+  s.max_steps = 200;
+  s.max_dist = 100;
+  return s;
+}
+
+TEST(Shadows, EveryHardStrategyDarkensTheAnalyticShadowAndLightsTheRest) {
+  // Straight down, the sphere's shadow on the ground is the disc x^2 + z^2 < 0.25.
+  for (auto bias : {sdf::ShadowBias::seed_offset, sdf::ShadowBias::seed_ignore, sdf::ShadowBias::scaled}) {
+    SCOPED_TRACE(static_cast<int>(bias));
+    const auto light = overhead(sdf::ShadowMode::hard, bias);
+    // The hit point the march reports is up to hit_eps above the surface.
+    for (const V p : {V(0, 0.005, 0), V(0.3, 0.005, -0.2)})
+      EXPECT_EQ(shadow_visibility<double>(TapeField{&kGround}, p, V(0, 1, 0), V(0, 1, 0), INFINITY, 5.0, light,
+                                          seed_settings(), {})
+                    .visibility,
+                0.0);
+    for (const V p : {V(0.7, 0.005, 0), V(2, 0.005, 3)})
+      EXPECT_EQ(shadow_visibility<double>(TapeField{&kGround}, p, V(0, 1, 0), V(0, 1, 0), INFINITY, 5.0, light,
+                                          seed_settings(), {})
+                    .visibility,
+                1.0);
+  }
+}
+
+TEST(Shadows, WithoutABiasTheShadowRayHitsItsOwnSurface) {
+  // The broken variant: no offset at all. The seed strategy with bias factor 0 starts on the surface: acne.
+  auto light = overhead(sdf::ShadowMode::hard, sdf::ShadowBias::seed_offset);
+  light.bias_factor = 0;
+  EXPECT_EQ(shadow_visibility<double>(TapeField{&kGround}, V(2, 0.005, 3), V(0, 1, 0), V(0, 1, 0), INFINITY, 5.0,
+                                      light, seed_settings(), {})
+                .visibility,
+            0.0);
+}
+
+TEST(Shadows, SoftShadowsGoFromUmbraThroughPenumbraToLight) {
+  for (auto variant : {sdf::SoftShadow::classic, sdf::SoftShadow::improved}) {
+    SCOPED_TRACE(static_cast<int>(variant));
+    auto light = overhead(sdf::ShadowMode::soft, sdf::ShadowBias::scaled);
+    light.soft = variant;
+    light.penumbra = 8;
+    double previous = -1;
+    for (double x : {0.0, 0.45, 0.55, 0.65, 1.5}) {
+      const double v = shadow_visibility<double>(TapeField{&kGround}, V(x, 0.005, 0), V(0, 1, 0), V(0, 1, 0), INFINITY,
+                                                 5.0, light, seed_settings(), {})
+                           .visibility;
+      EXPECT_GE(v, previous) << x;  // visibility grows away from the shadow's centre
+      previous = v;
+    }
+    EXPECT_EQ(shadow_visibility<double>(TapeField{&kGround}, V(0, 0.005, 0), V(0, 1, 0), V(0, 1, 0), INFINITY, 5.0,
+                                        light, seed_settings(), {})
+                  .visibility,
+              0.0);
+    const double edge = shadow_visibility<double>(TapeField{&kGround}, V(0.55, 0.005, 0), V(0, 1, 0), V(0, 1, 0),
+                                                  INFINITY, 5.0, light, seed_settings(), {})
+                            .visibility;
+    EXPECT_GT(edge, 0.0);
+    EXPECT_LT(edge, 1.0) << "just outside the geometric shadow: penumbra";
+  }
+}
+
+TEST(Fresnel, SchlickAtNormalIncidenceIsTheReflectanceOfTheInterface) {
+  for (double n2 : {1.33, 1.5, 2.4}) EXPECT_DOUBLE_EQ(schlick_fresnel(1.0, 1.0, n2), std::pow((1 - n2) / (1 + n2), 2));
+  EXPECT_DOUBLE_EQ(schlick_fresnel(0.0, 1.0, 1.5), 1.0) << "grazing incidence reflects everything";
+}
+
+TEST(Refraction, ASlabOffsetsTheRayByTheClosedFormAmount) {
+  // Slab of thickness 1 (|y| < 0.5), wide in x and z; ray at 30 degrees from the normal, index 1.5.
+  const sdf::Tape slab = sdf::compile(sdf::box({50, 0.5, 50}));
+  const double theta = 30 * std::numbers::pi / 180, ior = 1.5;
+  const V d(std::sin(theta), -std::cos(theta), 0);
+  const V entry(0, 0.5, 0);
+  MarchSettings s = seed_settings();
+  s.hit_eps = 1e-9;
+  s.max_steps = 10000;
+  const auto r = refract_through<double>(TapeField{&slab}, entry, V(0, 1, 0), d, ior, s, {}, 1e-6);
+  ASSERT_TRUE(r.ok);
+  EXPECT_NEAR(glm::length(r.exit_direction - d), 0.0, 1e-6) << "leaves parallel to how it came in";
+  const double theta_t = std::asin(std::sin(theta) / ior);
+  const double offset = 1.0 * std::sin(theta - theta_t) / std::cos(theta_t);
+  // Perpendicular distance from the exit point to the incoming line.
+  const V w = r.exit_point - entry;
+  const double lateral = glm::length(w - d * glm::dot(w, d));
+  // Entry and exit points sit 2 (hit_eps + 1e-6) off the surface along the normal, each moving the line
+  // sideways by up to that much: 4e-6 of slack; the march itself is exact to 1e-9 here.
+  EXPECT_NEAR(lateral, offset, 4e-6);
+}
+
+// A scene to switch effects on: sphere over a ground plane, one point light.
+sdf::Scene base_scene() {
+  sdf::Scene s;
+  s.name = "effects";
+  s.materials = {{"ball", {0.8, 0.3, 0.2}}, {"ground", {0.6, 0.6, 0.6}}};
+  s.root = sdf::unite({sdf::translate({0, 1, 0}, sdf::sphere(1, 0)), sdf::plane({0, 1, 0}, 0, 1)});
+  s.width = 64;
+  s.height = 48;
+  s.camera.position = {0, 2.5, 5};
+  s.camera.target = {0, 0.8, 0};
+  s.camera.fov_deg = 60;
+  sdf::Light light;
+  light.type = sdf::LightType::point;
+  light.position = {2, 5, 2};
+  s.lights = {light};
+  s.march.hit_eps = 1e-3;
+  return s;
+}
+
+struct EffectCase {
+  const char* name;
+  const char* stage;  // the stage the effect spends its evaluations in ("" = shading only: no evaluations)
+  std::function<void(sdf::Scene&)> declare;
+};
+
+std::vector<EffectCase> effect_cases() {
+  return {
+      {"hard shadow", "shadow", [](sdf::Scene& s) { s.lights[0].shadow = sdf::ShadowMode::hard; }},
+      {"soft shadow", "shadow", [](sdf::Scene& s) { s.lights[0].shadow = sdf::ShadowMode::soft; }},
+      {"sampled ao", "ao", [](sdf::Scene& s) { s.effects.ao = sdf::AmbientOcclusion::samples; }},
+      {"reflection", "reflection",
+       [](sdf::Scene& s) {
+         s.materials[1].reflectivity = 0.5;
+         s.effects.max_bounces = 2;
+       }},
+      {"refraction", "refraction",
+       [](sdf::Scene& s) {
+         s.materials[0].transparency = 0.8;
+         s.effects.max_bounces = 2;
+       }},
+      {"specular", "",
+       [](sdf::Scene& s) {
+         s.materials[0].specular = sdf::SpecularModel::phong;
+         s.materials[0].specular_strength = 0.5;
+       }},
+      {"texture", "",
+       [](sdf::Scene& s) {
+         s.materials[1].texture = sdf::TextureMapping::planar;
+         s.materials[1].texture_scale = 0.5;
+       }},
+      {"step ao", "", [](sdf::Scene& s) { s.effects.ao = sdf::AmbientOcclusion::steps; }},
+      {"glow", "", [](sdf::Scene& s) { s.effects.glow = 1; }},
+      {"fog", "", [](sdf::Scene& s) { s.effects.fog = 0.2; }},
+      {"toon", "",
+       [](sdf::Scene& s) {
+         s.effects.shading = sdf::Shading::toon;
+         s.effects.silhouette = 0.2;
+       }},
+      {"ramp", "",
+       [](sdf::Scene& s) {
+         s.materials[0].ramp_value = 0.5;
+         s.effects.ramp = {{0, 0, 1}, {0, 1, 0}};
+       }},
+      {"floor diffuse", "", [](sdf::Scene& s) { s.effects.diffuse = sdf::Diffuse::floor; }},
+  };
+}
+
+class Effect : public ::testing::TestWithParam<size_t> {};
+
+TEST_P(Effect, CostsNothingUndeclaredAndChangesTheImageDeclared) {
+  const auto c = effect_cases()[GetParam()];
+  sdf::Scene with = base_scene();
+  with.materials[1].reflectivity = 0;
+  if (std::string(c.name) == "glow") with.root = sdf::translate({0, 1, 0}, sdf::sphere(1, 0));  // misses to glow on
+  sdf::Scene without = with;
+  c.declare(with);
+  const RenderResult a = render(without), b = render(with);
+  EXPECT_NE(a.color.pixels, b.color.pixels) << "declaring " << c.name << " must change the image";
+  for (const char* stage : {"shadow", "ao", "reflection", "refraction"}) {
+    EXPECT_EQ(a.stages.at(stage).evals, 0u) << stage;
+    EXPECT_EQ(a.stages.at(stage).seconds, 0.0) << stage;
+  }
+  if (std::string(c.stage).empty()) {
+    EXPECT_EQ(a.total_evals, b.total_evals) << c.name << " is shading only: it must cost no evaluation";
+  } else {
+    EXPECT_GT(b.stages.at(c.stage).evals, 0u);
+    EXPECT_GT(b.stages.at(c.stage).seconds, 0.0);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(All, Effect, ::testing::Range<size_t>(0, effect_cases().size()));
+
+TEST(Pipeline, ADepthOnlyRenderEvaluatesNoNormal) {
+  sdf::Scene s = base_scene();
+  s.lights.clear();
+  s.effects.ambient = 0;
+  const RenderResult depth_only = render(s, {Aov::depth});
+  EXPECT_EQ(depth_only.stages.at("normal").evals, 0u);
+  EXPECT_EQ(depth_only.stages.at("material").evals, 0u);
+  EXPECT_EQ(depth_only.total_evals, depth_only.stages.at("march").evals);
+  EXPECT_GT(render(s, {Aov::normal}).stages.at("normal").evals, 0u) << "asking for the normal AOV computes normals";
+}
+
+TEST(Mirror, ShowsTheReflectedObjectWhereGeometrySays) {
+  // A mirror floor and a red sphere; the camera looks at the floor point whose mirror ray hits the sphere.
+  sdf::Scene s = base_scene();
+  s.materials[0].color = {1, 0, 0};
+  s.materials[1].color = {0, 0, 1};
+  s.materials[1].reflectivity = 1;
+  s.effects.max_bounces = 1;
+  s.effects.ambient = 0.3;
+  s.lights.clear();
+  // Eye (0, 1, 4); floor point (0, 0, 2): the reflected ray heads to (0, 1, 0), the sphere's centre.
+  s.camera.position = {0, 1, 4};
+  s.camera.target = {0, 0, 2};
+  s.width = s.height = 33;
+  const RenderResult r = render(s);
+  const float* centre = r.color.at(16, 16);
+  EXPECT_NEAR(centre[0], 0.3 * 1.0, 1e-6) << "the sphere's red, lit by ambient only";
+  EXPECT_NEAR(centre[2], 0.0, 1e-6);
+  s.effects.max_bounces = 0;
+  const float* plain = render(s).color.at(16, 16);
+  EXPECT_NEAR(plain[2], 0.3, 1e-6) << "without bounces the floor shows its own blue";
+}
+
+TEST(Fog, BlendsTowardTheFogColourByExpOfDistance) {
+  sdf::Scene s = base_scene();
+  s.lights.clear();
+  s.effects.ambient = 1;
+  s.materials[1].color = glm::dvec3(1);
+  s.effects.fog = 0.3;
+  s.effects.fog_color = glm::dvec3(0);
+  const RenderResult r = render(s);
+  for (int x : {5, 30, 58}) {
+    const float depth = *r.depth.at(x, 45);
+    ASSERT_TRUE(std::isfinite(depth));
+    EXPECT_NEAR(r.color.at(x, 45)[1], std::exp(-0.3 * depth), 1e-6);
+  }
+}
+
+TEST(Toon, DiffuseTakesOnlyTheBandValues) {
+  sdf::Scene s = base_scene();
+  s.effects.shading = sdf::Shading::toon;
+  s.effects.ambient = 0;
+  s.materials[0].color = glm::dvec3(1);
+  s.materials[1].color = glm::dvec3(1);
+  const RenderResult r = render(s);
+  for (size_t i = 0; i < r.color.pixels.size(); i += 3) {
+    if (*r.outcome.at(static_cast<int>(i / 3) % 64, static_cast<int>(i / 3) / 64) != 0) continue;
+    const float v = r.color.pixels[i];
+    const bool band = std::abs(v - 0.1f) < 1e-6 || std::abs(v - 0.4f) < 1e-6 || std::abs(v - 0.7f) < 1e-6 ||
+                      std::abs(v - 1.0f) < 1e-6 || v == 0.0f;
+    ASSERT_TRUE(band) << v;
+  }
+}
+
+}  // namespace
+}  // namespace marchcheck::march
