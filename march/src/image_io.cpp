@@ -112,6 +112,17 @@ void write_render(const RenderResult& r, const std::string& path, const std::vec
         write_image(heat_map(r.evals, top), base + ".evals.png", false);
         break;
       }
+      case Aov::stages:
+        for (int stage = 0; stage < r.stage_evals.channels; ++stage) {
+          Image one(r.stage_evals.width, r.stage_evals.height, 1);
+          float top = 0;
+          for (size_t i = 0; i < one.pixels.size(); ++i) {
+            one.pixels[i] = r.stage_evals.pixels[i * static_cast<size_t>(r.stage_evals.channels) + static_cast<size_t>(stage)];
+            top = std::max(top, one.pixels[i]);
+          }
+          if (top > 0) write_image(heat_map(one, top), base + ".evals-" + r.stage_names[static_cast<size_t>(stage)] + ".png", false);
+        }
+        break;
       case Aov::id: {
         Image shown(r.id.width, r.id.height, 3);
         for (int y = 0; y < r.id.height; ++y)

@@ -45,7 +45,8 @@ std::vector<Aov> parse_aovs(const std::string& list) {
     else if (item == "steps") out.push_back(Aov::steps);
     else if (item == "evals") out.push_back(Aov::evals);
     else if (item == "id") out.push_back(Aov::id);
-    else throw std::invalid_argument("unknown AOV '" + item + "'; expected depth, normal, steps, evals, id");
+    else if (item == "stages") out.push_back(Aov::stages);
+    else throw std::invalid_argument("unknown AOV '" + item + "'; expected depth, normal, steps, evals, id, stages");
   }
   return out;
 }
@@ -57,6 +58,7 @@ std::string to_string(Aov aov) {
     case Aov::steps: return "steps";
     case Aov::evals: return "evals";
     case Aov::id: return "id";
+    case Aov::stages: return "stages";
   }
   return "?";
 }
@@ -286,6 +288,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     V normal{0};
     int material = -1;
     std::uint64_t evals = 0;
+    std::array<std::uint64_t, kStageCount> stage_evals{};
     double visibility[kMaxLights];
     double ao = 1;
     bool hit = false;
@@ -303,6 +306,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     each([&](PixelState& p, int x, int y) {
       const auto e = static_cast<std::uint64_t>(fn(p, x, y));
       p.evals += e;
+      p.stage_evals[which] += e;
       evals += e;
     });
     counters.stages[which].evals += evals;
@@ -373,9 +377,12 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
         color -= glm::dvec3(static_cast<double>(p.record.steps) * p.record.steps * fx.ao_steps_scale);
       if (pipe.reflection || pipe.refraction) {
         const auto bounce_start = Clock::now();
-        const std::uint64_t before = counters.stages[kReflection].evals + counters.stages[kRefraction].evals;
+        const std::uint64_t reflection = counters.stages[kReflection].evals;
+        const std::uint64_t refraction = counters.stages[kRefraction].evals;
         color = tracer.bounce(color, V(hit), p.normal, p.direction, p.material, 0, p.record.t);
-        p.evals += counters.stages[kReflection].evals + counters.stages[kRefraction].evals - before;
+        p.stage_evals[kReflection] += counters.stages[kReflection].evals - reflection;
+        p.stage_evals[kRefraction] += counters.stages[kRefraction].evals - refraction;
+        p.evals += p.stage_evals[kReflection] + p.stage_evals[kRefraction];
         bounce_seconds += since(bounce_start);
       }
       color = glm::max(color, glm::dvec3(0));
@@ -391,6 +398,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     for (int i = 0; i < 3; ++i) n[i] = static_cast<float>(p.normal[i]);
     *out.steps.at(x, y) = static_cast<float>(p.record.steps);
     *out.evals.at(x, y) = static_cast<float>(p.evals);
+    for (int i = 0; i < kStageCount; ++i) out.stage_evals.at(x, y)[i] = static_cast<float>(p.stage_evals[static_cast<size_t>(i)]);
     *out.id.at(x, y) = static_cast<float>(p.material);
     *out.outcome.at(x, y) = static_cast<float>(p.record.outcome);
   });
@@ -416,6 +424,8 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs) {
   out.normal = Image(w, h, 3);
   out.steps = Image(w, h, 1);
   out.evals = Image(w, h, 1);
+  out.stage_evals = Image(w, h, kStageCount);
+  out.stage_names.assign(std::begin(kStageNames), std::end(kStageNames));
   out.id = Image(w, h, 1);
   out.outcome = Image(w, h, 1);
 

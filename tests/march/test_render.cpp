@@ -49,6 +49,12 @@ TEST_P(EveryBuiltin, EvaluationCountsAddUpAndNoPixelIsNaN) {
   std::uint64_t staged = 0;
   for (const auto& [name, cost] : r.stages) staged += cost.evals;
   EXPECT_EQ(staged, r.total_evals);
+  // Per stage, the per-pixel channels add up to the stage's total.
+  for (size_t stage = 0; stage < r.stage_names.size(); ++stage) {
+    double sum = 0;
+    for (size_t i = stage; i < r.stage_evals.pixels.size(); i += r.stage_names.size()) sum += r.stage_evals.pixels[i];
+    EXPECT_EQ(static_cast<std::uint64_t>(sum), r.stages.at(r.stage_names[stage]).evals) << r.stage_names[stage];
+  }
   for (float v : r.color.pixels) ASSERT_FALSE(std::isnan(v));
 }
 
@@ -102,10 +108,10 @@ TEST(Render, WritesEveryOutputAtomically) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const RenderResult r = render(small("crum-torus"));
-  write_render(r, (dir / "torus.png").string(), parse_aovs("depth,normal,steps,evals,id"));
+  write_render(r, (dir / "torus.png").string(), parse_aovs("depth,normal,steps,evals,id,stages"));
   write_image(r.color, (dir / "torus.exr").string());
   for (const char* f : {"torus.png", "torus.exr", "torus.depth.exr", "torus.normal.png", "torus.steps.png",
-                        "torus.evals.png", "torus.id.png"})
+                        "torus.evals.png", "torus.id.png", "torus.evals-march.png", "torus.evals-normal.png"})
     EXPECT_GT(std::filesystem::file_size(dir / f), 0u) << f;
   for (const auto& entry : std::filesystem::directory_iterator(dir))
     EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();

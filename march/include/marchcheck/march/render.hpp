@@ -32,7 +32,7 @@ struct Image {
   const float* at(int x, int y) const { return &pixels[(static_cast<size_t>(y) * width + x) * channels]; }
 };
 
-enum class Aov { depth, normal, steps, evals, id };
+enum class Aov { depth, normal, steps, evals, id, stages };
 // Parses "depth,normal,..."; throws std::invalid_argument naming a bad entry.
 std::vector<Aov> parse_aovs(const std::string& list);
 std::string to_string(Aov aov);
@@ -48,6 +48,8 @@ struct RenderResult {
   Image normal;  // unit normal, zero where nothing was hit
   Image steps;   // primary march steps
   Image evals;   // SDF evaluations spent on the pixel, all stages
+  Image stage_evals;                    // the same per stage, one channel each
+  std::vector<std::string> stage_names;  // channel names of stage_evals
   Image id;      // material index, -1 where nothing was hit
   Image outcome;  // march::Outcome as a number
   std::map<std::string, StageCost> stages;
@@ -64,7 +66,8 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs = {});
 std::map<std::string, double> cost_metrics(const RenderResult& result);
 
 // Writes the colour image (PNG: 8-bit sRGB; EXR: float linear) and each AOV next to it
-// (FILE.depth.exr, FILE.normal.png, FILE.steps.png heat map, FILE.evals.png heat map, FILE.id.png), each
+// (FILE.depth.exr, FILE.normal.png, FILE.steps.png heat map, FILE.evals.png heat map, FILE.id.png,
+// FILE.evals-STAGE.png heat map for each stage that spent evaluations), each
 // through a temporary file renamed into place. Throws std::runtime_error naming the file on failure.
 void write_render(const RenderResult& result, const std::string& path, const std::vector<Aov>& aovs);
 
