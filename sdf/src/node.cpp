@@ -208,7 +208,7 @@ Kind weaker(Kind a, Kind b) { return std::max(a, b); }
 
 // Combining children: min/max-like operators keep 1-Lipschitz fields 1-Lipschitz with the combined zero
 // set, so exact and bound children give a bound; an unbounded child makes the result unbounded.
-FieldInfo combine(const std::vector<FieldInfo>& cs, const char* what) {
+FieldInfo combine(const std::vector<FieldInfo>& cs, const std::string& what) {
   FieldInfo out;
   out.kind = Kind::bound;
   out.lipschitz = 0;
@@ -216,9 +216,9 @@ FieldInfo combine(const std::vector<FieldInfo>& cs, const char* what) {
     out.kind = weaker(out.kind, c.kind);
     out.lipschitz = std::max(out.lipschitz, c.lipschitz);
   }
-  out.reason = out.kind == Kind::unbounded ? std::string(what) + " of an unbounded field"
-                                           : std::string(what) + " of exact/bound fields: a bound (exact only on "
-                                                                 "parts of the surface)";
+  out.reason = out.kind == Kind::unbounded
+                   ? what + " of an unbounded field"
+                   : what + " of exact/bound fields: a bound (exact only on parts of the surface)";
   return out;
 }
 
@@ -328,41 +328,24 @@ FieldInfo derive_info(const Node& node, double time) {
       return same_as_child(Box3{{child.bounds.lo.x, child.bounds.lo.y, -h}, {child.bounds.hi.x, child.bounds.hi.y, h}},
                            "extrusion keeps the 2D shape's kind");
     }
-    case Op::union_: {
-      if (cs.size() == 1) return child;
-      FieldInfo out = combine(cs, "union");
-      out.bounds = cs.front().bounds;
-      for (const auto& c : cs) out.bounds = hull(out.bounds, c.bounds);
-      return out;
-    }
-    case Op::intersection: {
-      FieldInfo out = combine(cs, "intersection");
-      out.bounds = cs.front().bounds;
-      for (const auto& c : cs) out.bounds = overlap(out.bounds, c.bounds);
-      return out;
-    }
-    case Op::subtraction: {
-      FieldInfo out = combine(cs, "subtraction");
-      out.bounds = cs.front().bounds;
-      return out;
-    }
-    case Op::smooth_union: {
-      // smin = w a + (1 - w) b with w in [0,1] along the blend: still max(L)-Lipschitz.
-      FieldInfo out = combine(cs, "smooth union");
-      out.bounds = cs.front().bounds;
-      for (const auto& c : cs) out.bounds = hull(out.bounds, c.bounds);
-      out.bounds = expand(out.bounds, node.scalar("k") / 4);
-      return out;
-    }
-    case Op::smooth_intersection: {
-      FieldInfo out = combine(cs, "smooth intersection");
-      out.bounds = cs.front().bounds;
-      for (const auto& c : cs) out.bounds = overlap(out.bounds, c.bounds);
-      return out;
-    }
+    case Op::union_:
+    case Op::smooth_union:
+    case Op::intersection:
+    case Op::smooth_intersection:
+    case Op::subtraction:
     case Op::smooth_subtraction: {
-      FieldInfo out = combine(cs, "smooth subtraction");
+      if (node.op == Op::union_ && cs.size() == 1) return child;
+      // Smooth variants: smin = w a + (1 - w) b with w in [0,1] along the blend, still max(L)-Lipschitz.
+      FieldInfo out = combine(cs, std::string(op_info(node.op).name));
+      const bool unites = node.op == Op::union_ || node.op == Op::smooth_union;
+      const bool intersects = node.op == Op::intersection || node.op == Op::smooth_intersection;
       out.bounds = cs.front().bounds;
+      for (const auto& c : cs) {
+        if (unites) out.bounds = hull(out.bounds, c.bounds);
+        if (intersects) out.bounds = overlap(out.bounds, c.bounds);
+      }
+      // The smooth union adds up to k/4 of material between its children.
+      if (node.op == Op::smooth_union) out.bounds = expand(out.bounds, node.scalar("k") / 4);
       return out;
     }
     case Op::round: {

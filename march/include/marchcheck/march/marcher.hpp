@@ -99,15 +99,19 @@ RayRecord<T> march(const F& f, glm::vec<3, T> origin, glm::vec<3, T> direction, 
   const T max_dist = static_cast<T>(s.max_dist);
   const T scale = s.marcher == Marcher::scaled ? T(s.step_scale / c.lipschitz) : T(s.step_scale);
   T t = t_start;
-  auto at = [&](T tt) { return origin + direction * tt; };
+  // One step: one evaluation, recorded.
+  auto probe = [&](T tt) {
+    const T v = f(origin + direction * tt);
+    ++r.steps;
+    track.saw(tt, v);
+    return v;
+  };
 
   if (s.marcher == Marcher::fixed) {
     const T step = T(s.fixed_step);
     T prev_t = t;
     while (r.steps < s.max_steps) {
-      const T v = f(at(t));
-      ++r.steps;
-      track.saw(t, v);
+      const T v = probe(t);
       if (!std::isfinite(v)) return track.end(Outcome::invalid, t);
       const T eps = hit_threshold(s, c, t);
       if (r.steps == 1 && v < -eps) return track.end(Outcome::inside, t);
@@ -117,9 +121,7 @@ RayRecord<T> march(const F& f, glm::vec<3, T> origin, glm::vec<3, T> direction, 
         T lo = prev_t, hi = t;
         while (r.steps < s.max_steps) {
           const T mid = lo + (hi - lo) * T(0.5);
-          const T vm = f(at(mid));
-          ++r.steps;
-          track.saw(mid, vm);
+          const T vm = probe(mid);
           if (!std::isfinite(vm)) return track.end(Outcome::invalid, mid);
           if (std::abs(vm) < hit_threshold(s, c, mid) || !(mid > lo && mid < hi)) return track.end(Outcome::hit, mid);
           (vm > 0 ? lo : hi) = mid;
@@ -138,9 +140,7 @@ RayRecord<T> march(const F& f, glm::vec<3, T> origin, glm::vec<3, T> direction, 
   T omega = s.marcher == Marcher::relaxed ? T(s.relaxation) : T(1);
   T prev_t = t, prev_f = 0, prev_step = 0;
   while (r.steps < s.max_steps) {
-    const T v = f(at(t));
-    ++r.steps;
-    track.saw(t, v);
+    const T v = probe(t);
     if (!std::isfinite(v)) return track.end(Outcome::invalid, t);
     const T eps = hit_threshold(s, c, t);
     if (r.steps == 1 && v < -eps) return track.end(Outcome::inside, t);
