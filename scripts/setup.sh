@@ -4,7 +4,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git
   libglm-dev libcgal-dev libopenmesh-dev libgtest-dev libgmock-dev libbenchmark-dev
-  libopenimageio-dev libtbb-dev
+  libopenimageio-dev libtbb-dev libembree-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev
   python3 python3-matplotlib
 )

@@ -1,6 +1,7 @@
 #include "marchcheck/march/render.hpp"
 
 #include "marchcheck/march/effects.hpp"
+#include "marchcheck/march/mesh_occluder.hpp"
 #include "marchcheck/march/normals.hpp"
 #include "marchcheck/march/texture.hpp"
 
@@ -70,9 +71,9 @@ double RenderResult::evals_per_pixel() const {
 
 namespace {
 
-enum Stage { kMarch, kNormal, kMaterial, kShadow, kAo, kReflection, kRefraction, kShade, kStageCount };
-constexpr const char* kStageNames[kStageCount] = {"march",      "normal",     "material", "shadow",
-                                                  "ao",         "reflection", "refraction", "shade"};
+enum Stage { kMesh, kMarch, kNormal, kMaterial, kShadow, kAo, kReflection, kRefraction, kShade, kStageCount };
+constexpr const char* kStageNames[kStageCount] = {"mesh", "march",      "normal",     "material", "shadow",
+                                                  "ao",   "reflection", "refraction", "shade"};
 constexpr int kTile = 16;
 
 struct Counters {
@@ -113,6 +114,7 @@ struct Context {
   Camera camera;
   MarchContext march;
   Pipeline pipeline;
+  std::unique_ptr<MeshOccluder> meshes;  // only when the scene has triangle meshes
 };
 
 template <class T>
@@ -292,6 +294,8 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     double visibility[kMaxLights];
     double ao = 1;
     bool hit = false;
+    bool on_mesh = false;  // the nearest surface is a triangle mesh, not the field
+    MeshHit mesh;
   };
   std::array<PixelState, kTile * kTile> px;
   const int w = x1 - x0;
@@ -313,17 +317,40 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     counters.stages[which].seconds += since(start);
   };
 
+  if (ctx.meshes)
+    stage(kMesh, [&](PixelState& p, int x, int y) {
+      const Ray ray = ctx.camera.ray(x + 0.5, y + 0.5);
+      p.origin = V(ray.origin);
+      p.direction = V(ray.direction);
+      p.mesh = ctx.meshes->intersect(ray.origin, ray.direction, s.max_dist);
+      return 0;
+    });
   stage(kMarch, [&](PixelState& p, int x, int y) {
-    const Ray ray = ctx.camera.ray(x + 0.5, y + 0.5);
-    p.origin = V(ray.origin);
-    p.direction = V(ray.direction);
-    p.record = march<T>(field, p.origin, p.direction, s, ctx.march);
+    if (!ctx.meshes) {
+      const Ray ray = ctx.camera.ray(x + 0.5, y + 0.5);
+      p.origin = V(ray.origin);
+      p.direction = V(ray.direction);
+    }
+    if (p.mesh.hit) {
+      // The march stops at the mesh, as the seed's does at the depth buffer's distance.
+      MarchSettings to_mesh = s;
+      to_mesh.max_dist = p.mesh.t;
+      p.record = march<T>(field, p.origin, p.direction, to_mesh, ctx.march);
+      p.on_mesh = p.record.outcome != Outcome::hit;
+    } else {
+      p.record = march<T>(field, p.origin, p.direction, s, ctx.march);
+    }
     if (s.miss_as_zero && p.record.outcome != Outcome::hit) {
       // The seed's encoding: a miss is distance 0, which its consumer reads as a hit at the ray origin.
       p.record.outcome = Outcome::hit;
       p.record.t = 0;
     }
     p.hit = p.record.outcome == Outcome::hit;
+    if (p.on_mesh) {
+      p.record.t = static_cast<T>(p.mesh.t);
+      p.normal = V(p.mesh.normal);
+      p.material = p.mesh.material;
+    }
     for (auto& v : p.visibility) v = 1;
     return p.record.evals;
   });
@@ -343,7 +370,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
   Tracer<T> tracer{ctx, counters};
   if (pipe.shadows)
     stage(kShadow, [&](PixelState& p, int, int) {
-      if (!p.hit) return std::uint64_t{0};
+      if (!p.hit && !p.on_mesh) return std::uint64_t{0};
       return tracer.shadows(p.origin + p.direction * p.record.t, p.normal, p.record.t, p.visibility);
     });
   if (pipe.ao_samples)
@@ -367,10 +394,10 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
   each([&](PixelState& p, int x, int y) {
     glm::dvec3 color = fx.background;
     const glm::dvec3 hit = glm::dvec3(p.origin) + glm::dvec3(p.direction) * static_cast<double>(p.record.t);
-    if (p.hit) {
+    if (p.hit || p.on_mesh) {
       const glm::dvec3 n(p.normal);
       const glm::dvec3 eye = fx.eye_is_ray_direction ? glm::dvec3(p.direction) : glm::dvec3(p.origin);
-      const glm::dvec3 albedo = pipe.materials ? material_color(ctx, p.material, hit, n) : glm::dvec3(0.8);
+      const glm::dvec3 albedo = pipe.materials || p.on_mesh ? material_color(ctx, p.material, hit, n) : glm::dvec3(0.8);
       color = ctx.scene.lights.empty() && !pipe.materials ? glm::dvec3(0)
                                                           : direct_light(ctx, hit, n, eye, albedo, p.material, p.visibility, p.ao);
       if (fx.ao == sdf::AmbientOcclusion::steps)
@@ -393,7 +420,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     }
     float* c = out.color.at(x, y);
     for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(color[i]);
-    *out.depth.at(x, y) = p.hit ? static_cast<float>(p.record.t) : INFINITY;
+    *out.depth.at(x, y) = p.hit || p.on_mesh ? static_cast<float>(p.record.t) : INFINITY;
     float* n = out.normal.at(x, y);
     for (int i = 0; i < 3; ++i) n[i] = static_cast<float>(p.normal[i]);
     *out.steps.at(x, y) = static_cast<float>(p.record.steps);
@@ -412,11 +439,12 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs) {
   const auto start = Clock::now();
   const int w = scene.width, h = scene.height;
   if (scene.lights.size() > kMaxLights) throw std::invalid_argument("at most 16 lights");
-  Context ctx{scene, sdf::compile(scene.root, scene.time), Camera(scene.camera, w, h), {}, plan(scene, aovs)};
+  Context ctx{scene, sdf::compile(scene.root, scene.time), Camera(scene.camera, w, h), {}, plan(scene, aovs), nullptr};
   ctx.march.lipschitz = sdf::derive_info(scene.root, scene.time).lipschitz;
   ctx.march.footprint_at_0 = ctx.camera.footprint_at_0();
   ctx.march.footprint_slope = ctx.camera.footprint_slope();
   if (ctx.pipeline.textures) soil_texture_path();
+  if (!scene.meshes.empty()) ctx.meshes = std::make_unique<MeshOccluder>(scene.meshes);
 
   RenderResult out;
   out.color = Image(w, h, 3);

@@ -346,6 +346,28 @@ Scene flafla_torus() {
   return s;
 }
 
+TriangleMesh box_mesh(std::string name, glm::dvec3 c, glm::dvec3 h, int material) {
+  TriangleMesh m;
+  m.name = std::move(name);
+  m.material = material;
+  for (int i = 0; i < 8; ++i)
+    m.vertices.push_back(c + h * glm::dvec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1));
+  // Two counter-clockwise triangles per face, seen from outside.
+  m.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                 {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+  return m;
+}
+
+// The Unity seed's mesh occlusion: a triangle-mesh box through the marched torus; each hides the other.
+Scene flafla_occlusion() {
+  Scene s = flafla_torus();
+  s.name = "flafla-occlusion";
+  s.description = "flafla-torus sharing the screen with a triangle-mesh box: the march stops at the mesh's distance";
+  const int mesh_material = add_material(s, "mesh", {0.9, 0.5, 0.2});
+  s.meshes = {box_mesh("box", {1, 0, 0}, {0.3, 0.6, 0.3}, mesh_material)};
+  return s;
+}
+
 Scene flafla_torus_defect_no_drawdist() {
   Scene s = flafla_torus();
   s.name = "flafla-torus-defect-no-drawdist";
@@ -409,6 +431,7 @@ const std::vector<std::pair<std::string, std::function<Scene()>>>& registry() {
       {"flafla-csg", flafla_csg},
       {"flafla-materials", flafla_materials},
       {"flafla-animated", flafla_animated},
+      {"flafla-occlusion", flafla_occlusion},
       // Defect variants: each reproduces one seed defect faithfully; `scenes` lists them as such.
       {"lee-flat-defect-bias", lee_flat_defect_bias},
       {"lee-terrain-defect-lipschitz", lee_terrain_defect_lipschitz},

@@ -473,6 +473,7 @@ std::vector<std::string> declared_effects(const Scene& scene) {
     if (m.ramp_value >= 0 && !fx.ramp.empty()) add("ramp");
   }
   if (fx.ao != AmbientOcclusion::none) add("ao:" + enum_name(kAo, fx.ao));
+  if (!scene.meshes.empty()) add("mesh-occlusion");
   if (fx.glow > 0) add("glow");
   if (fx.fog > 0) add("fog");
   if (scene.camera.model == CameraModel::intrinsics &&
@@ -517,6 +518,18 @@ std::string scene_to_json(const Scene& scene) {
   json lights = json::array();
   for (const auto& l : scene.lights) lights.push_back(write_fields(l, light_fields()));
   j["lights"] = lights;
+  if (!scene.meshes.empty()) {
+    json meshes = json::array();
+    for (const auto& m : scene.meshes) {
+      json vertices = json::array(), triangles = json::array();
+      for (const auto& v : m.vertices) vertices.push_back(vec3_json(v));
+      for (const auto& t : m.triangles) triangles.push_back({t.x, t.y, t.z});
+      json mj = {{"name", m.name}, {"vertices", vertices}, {"triangles", triangles}};
+      if (m.material >= 0) mj["material"] = scene.materials.at(static_cast<size_t>(m.material)).name;
+      meshes.push_back(mj);
+    }
+    j["meshes"] = meshes;
+  }
   j["limits"] = scene.limits;
   j["sdf"] = node_to_json(scene.root, scene);
   if (scene.intended) j["intended_sdf"] = node_to_json(*scene.intended, scene);
@@ -536,7 +549,7 @@ Scene scene_from_json(std::string_view text, const std::string& source) {
   try {
     Scene scene;
     std::vector<std::string> allowed = {"name",   "description", "defects", "camera", "materials", "lights",
-                                        "effects", "limits",     "sdf",     "intended_sdf"};
+                                        "meshes", "effects",     "limits",  "sdf",    "intended_sdf"};
     for (const auto* s : section("")) allowed.push_back(s->key);
     check_keys(j, "", allowed);
     for (const char* key : {"name", "description"})
@@ -575,6 +588,35 @@ Scene scene_from_json(std::string_view text, const std::string& source) {
         if (light.type == LightType::directional && glm::length(light.direction) == 0)
           fail(where + "/direction", "must not be zero");
         scene.lights.push_back(light);
+      }
+    }
+    if (j.contains("meshes")) {
+      if (!j["meshes"].is_array()) fail("/meshes", "expected an array");
+      for (size_t i = 0; i < j["meshes"].size(); ++i) {
+        const json& mj = j["meshes"][i];
+        const std::string where = "/meshes/" + std::to_string(i);
+        check_keys(mj, where, {"name", "vertices", "triangles", "material"});
+        TriangleMesh mesh;
+        if (mj.contains("name")) mesh.name = mj["name"].is_string() ? mj["name"].get<std::string>() : "";
+        if (!mj.contains("vertices") || !mj["vertices"].is_array()) fail(where, "needs \"vertices\" (an array of [x, y, z])");
+        if (!mj.contains("triangles") || !mj["triangles"].is_array()) fail(where, "needs \"triangles\" (an array of [i, j, k])");
+        for (size_t v = 0; v < mj["vertices"].size(); ++v)
+          mesh.vertices.push_back(vec3(mj["vertices"][v], where + "/vertices/" + std::to_string(v)));
+        for (size_t t = 0; t < mj["triangles"].size(); ++t) {
+          const std::string tw = where + "/triangles/" + std::to_string(t);
+          const json& tri = mj["triangles"][t];
+          if (!tri.is_array() || tri.size() != 3) fail(tw, "expected 3 vertex indices");
+          const int hi = static_cast<int>(mesh.vertices.size()) - 1;
+          mesh.triangles.push_back({static_cast<unsigned>(integer(tri[0], tw + "/0", 0, hi)),
+                                    static_cast<unsigned>(integer(tri[1], tw + "/1", 0, hi)),
+                                    static_cast<unsigned>(integer(tri[2], tw + "/2", 0, hi))});
+        }
+        if (mj.contains("material")) {
+          if (!mj["material"].is_string()) fail(where + "/material", "expected a material name");
+          mesh.material = find_material(scene, mj["material"].get<std::string>());
+          if (mesh.material < 0) fail(where + "/material", "no material named '" + mj["material"].get<std::string>() + "'");
+        }
+        scene.meshes.push_back(std::move(mesh));
       }
     }
     if (j.contains("limits")) {

@@ -274,3 +274,46 @@ TEST(Toon, DiffuseTakesOnlyTheBandValues) {
 
 }  // namespace
 }  // namespace marchcheck::march
+
+namespace marchcheck::march {
+namespace {
+
+TEST(MeshOcclusion, MeshAndFieldHideEachOtherAtTheirExactDistances) {
+  // A unit sphere at the origin; a mesh wall at z = 1 over x < 0 (in front of the sphere, whose nearest point
+  // is at z = 1) and one at z = -2 over x > 0 (behind it).
+  sdf::Scene s = base_scene();
+  s.root = sdf::sphere(1, 0);
+  s.lights.clear();
+  s.effects.ambient = 1;
+  s.width = s.height = 41;
+  s.camera.position = {0, 0, 5};
+  s.camera.target = {0, 0, 0};
+  sdf::TriangleMesh wall;
+  wall.vertices = {{-3, -3, 1}, {0, -3, 1}, {0, 3, 1}, {-3, 3, 1}, {0, -3, -2}, {3, -3, -2}, {3, 3, -2}, {0, 3, -2}};
+  wall.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
+  wall.material = 1;
+  s.meshes = {wall};
+  const RenderResult r = render(s);
+  const Camera cam(s.camera, s.width, s.height);
+  // Left of centre the front wall hides the sphere: depth is the closed-form distance to the plane z = 1
+  // (Embree works in float: 1e-5 at distance 4).
+  const Ray left = cam.ray(17.5, 20.5);
+  EXPECT_NEAR(*r.depth.at(17, 20), (5 - 1) / -left.direction.z, 1e-5);
+  EXPECT_EQ(*r.id.at(17, 20), 1.0f);
+  // Right of centre the sphere hides the back wall: depth is the closed-form sphere hit, to within the float
+  // march's hit_eps (1e-3) over the cosine of incidence (> 0.5 here).
+  const Ray right = cam.ray(24.5, 20.5);
+  const double b = glm::dot(right.origin, right.direction), c = glm::dot(right.origin, right.origin) - 1;
+  EXPECT_NEAR(*r.depth.at(24, 20), -b - std::sqrt(b * b - c), 1e-3 / 0.5);
+  EXPECT_EQ(*r.id.at(24, 20), 0.0f);
+  // Beyond the sphere on the right, the back wall.
+  const Ray far_right = cam.ray(33.5, 20.5);
+  EXPECT_NEAR(*r.depth.at(33, 20), (5 + 2) / -far_right.direction.z, 1e-5);
+  EXPECT_GT(r.stages.at("mesh").seconds, 0.0);
+  // Without meshes the stage is never entered.
+  s.meshes.clear();
+  EXPECT_EQ(render(s).stages.at("mesh").seconds, 0.0);
+}
+
+}  // namespace
+}  // namespace marchcheck::march

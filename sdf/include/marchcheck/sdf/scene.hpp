@@ -131,6 +131,14 @@ struct Effects {
   bool eye_is_ray_direction = false;
 };
 
+// A triangle mesh sharing the screen with the marched field (the Unity seed's depth-buffer occlusion).
+struct TriangleMesh {
+  std::string name;
+  std::vector<glm::dvec3> vertices;
+  std::vector<glm::uvec3> triangles;  // indices into vertices, counter-clockwise seen from outside
+  int material = -1;
+};
+
 struct Scene {
   std::string name;
   std::string description;
@@ -140,6 +148,7 @@ struct Scene {
   CameraSpec camera;
   std::vector<Material> materials;
   std::vector<Light> lights;
+  std::vector<TriangleMesh> meshes;
   Effects effects;
   MarchSettings march;
   std::map<std::string, double> limits;  // per-check limits this scene sets
