@@ -65,7 +65,7 @@ INSTANTIATE_TEST_SUITE_P(All, EveryBuiltin, ::testing::ValuesIn(sdf::builtin_sce
   return name;
 });
 
-TEST(Render, LambertOnASphereEqualsTheClosedForm) {
+TEST(Render, LambertAndPhongOnASphereEqualTheClosedForm) {
   sdf::Scene s;
   s.name = "lambert";
   s.materials = {{"white", glm::dvec3(1)}};
@@ -79,6 +79,9 @@ TEST(Render, LambertOnASphereEqualsTheClosedForm) {
   light.type = sdf::LightType::directional;
   light.direction = glm::normalize(glm::dvec3(-1, -1, -1));
   s.lights = {light};
+  s.materials[0].specular = sdf::SpecularModel::phong;
+  s.materials[0].specular_strength = 0.3;
+  s.materials[0].shininess = 10;
   s.march.hit_eps = 1e-9;
   s.march.max_steps = 100000;  // near-tangent hits converge slowly at this eps
   s.march.normal_eps = 1e-5;
@@ -94,13 +97,25 @@ TEST(Render, LambertOnASphereEqualsTheClosedForm) {
       const double disc = b * b - c;
       if (disc < 1e-3) continue;  // skip silhouettes, where hit_eps decides hit or miss
       const glm::dvec3 n = ray.origin + ray.direction * (-b - std::sqrt(disc));
-      const double expected = 0.1 + std::clamp(glm::dot(n, -light.direction), 0.0, 1.0);
+      // Ambient + Lambert + Phong: 0.3 clamp(dot(reflect(-l, n), to_eye))^10 (Lee's sphere).
+      const glm::dvec3 l = -light.direction, to_eye = glm::normalize(ray.origin - n);
+      const double phong = 0.3 * std::pow(std::clamp(glm::dot(glm::reflect(-l, n), to_eye), 0.0, 1.0), 10.0);
+      const double expected = 0.1 + std::clamp(glm::dot(n, l), 0.0, 1.0) + phong;
       // Double march to 1e-9 and central normals at 1e-5 (truncation ~1e-10): the colour is stored as float,
       // so its own rounding (6e-8 relative) dominates.
       EXPECT_NEAR(r.color.at(x, y)[0], expected, 1e-6) << x << "," << y;
       ++checked;
     }
   EXPECT_GT(checked, 20);
+}
+
+TEST(Render, TimeMovesAnimatedScenesAndLights) {
+  for (const char* name : {"warped", "flafla-animated", "lee-flat"}) {
+    sdf::Scene a = small(name), b = small(name);
+    a.time = 0.5;
+    b.time = 2.0;
+    EXPECT_NE(render(a).color.pixels, render(b).color.pixels) << name;
+  }
 }
 
 TEST(Render, WritesEveryOutputAtomically) {
