@@ -25,6 +25,12 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--stats", render.stats, "Write the cost per stage as JSON");
   render_cmd->add_option("--set", render.sets, "Override a scene or marching parameter KEY=VALUE (repeatable)");
 
+  ValidateCommand validate;
+  auto* validate_cmd = app.add_subcommand("validate", "Run every check on scenes; exit 0 all pass, 1 a check failed");
+  validate_cmd->add_option("scenes", validate.scenes, "Built-in scene names, scene files, or all")->required();
+  validate_cmd->add_option("--json", validate.json, "Write the metrics and checks as JSON");
+  validate_cmd->add_option("--set", validate.sets, "Override a scene or marching parameter KEY=VALUE (repeatable)");
+
   std::string all_dir = "reports/out";
   auto* all_cmd = app.add_subcommand("render-all", "Render every built-in scene into a folder");
   all_cmd->add_option("-o,--output", all_dir, "Folder for the images");
@@ -48,5 +54,6 @@ int main(int argc, char** argv) {
   }
   if (*scenes_cmd) return run_scenes(scenes, std::cout, std::cerr);
   if (*render_cmd) return run_render(render, std::cout, std::cerr);
+  if (*validate_cmd) return run_validate(validate, std::cout, std::cerr);
   return run_render_all(all_dir, std::cout, std::cerr);
 }

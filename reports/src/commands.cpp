@@ -4,6 +4,7 @@
 #include "marchcheck/reports/results_io.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
+#include "marchcheck/validation/validate.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -101,6 +102,54 @@ int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err) {
       << result.evals_per_pixel() << " evaluations per pixel, " << std::setprecision(3) << result.seconds
       << " s -> " << cmd.output << "\n";
   return 0;
+}
+
+int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& err) {
+  std::vector<sdf::Scene> scenes;
+  try {
+    for (const auto& name : cmd.scenes) {
+      const auto names = name == "all" ? sdf::builtin_scene_names() : std::vector<std::string>{name};
+      for (const auto& n : names) {
+        scenes.push_back(sdf::resolve_scene(n));
+        apply_sets(scenes.back(), cmd.sets);
+        sdf::compile(scenes.back().root, scenes.back().time);
+      }
+    }
+  } catch (const std::exception& e) {
+    err << "marchcheck validate: " << e.what() << "\n";
+    return kBadInput;
+  }
+  nlohmann::ordered_json results = nlohmann::ordered_json::array();
+  bool all_pass = true;
+  for (const auto& scene : scenes) {
+    const auto r = validation::validate_scene(scene);
+    all_pass = all_pass && r.pass();
+    out << scene.name << (scene.defects.empty() ? "" : "  (reproduces a seed defect)") << ": "
+        << (r.pass() ? "PASS" : "FAIL") << "\n";
+    out << "  " << std::left << std::setw(30) << "check" << std::right << std::setw(13) << "value" << std::setw(13)
+        << "limit" << "  result  limit from\n";
+    nlohmann::ordered_json checks = nlohmann::ordered_json::array();
+    for (const auto& c : r.checks) {
+      out << "  " << std::left << std::setw(30) << c.name << std::right << std::setw(13) << std::setprecision(4)
+          << std::defaultfloat << c.value << std::setw(13) << c.limit << "  " << (c.pass ? "pass  " : "FAIL  ") << "  "
+          << c.limit_source << "\n";
+      checks.push_back({{"name", c.name}, {"value", c.value}, {"limit", c.limit}, {"pass", c.pass},
+                        {"limit_source", c.limit_source}, {"why", c.why}});
+    }
+    nlohmann::ordered_json metrics = nlohmann::ordered_json::object();
+    for (const auto& [k, v] : r.metrics) metrics[k] = std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr;
+    results.push_back({{"scene", scene.name}, {"defects", scene.defects}, {"pass", r.pass()}, {"checks", checks},
+                       {"metrics", metrics}});
+  }
+  if (cmd.json) {
+    try {
+      write_text_atomically(*cmd.json, nlohmann::ordered_json{{"kind", "validate"}, {"results", results}}.dump(2) + "\n");
+    } catch (const std::exception& e) {
+      err << "marchcheck validate: " << e.what() << "\n";
+      return kBadInput;
+    }
+  }
+  return all_pass ? 0 : 1;
 }
 
 int run_render_all(const std::string& dir, std::ostream& out, std::ostream& err) {

@@ -87,7 +87,11 @@ Scene lee(bool terrain) {
   s.march.normal_eps = 0.01;
   s.effects.ambient = 0;
   s.effects.background = {0, 0, 0};
+  // Rays grazing the ground toward the horizon need more than the seed's 200 steps: up to 1% stay undecided.
+  s.limits["hit.undecided"] = 0.01;
   if (terrain) {
+    // Central differences at the seed's eps 0.01 across noise features of 0.25 units.
+    s.limits["normal.angle_p99_deg"] = 5;
     s.march.marcher = Marcher::scaled;  // the height field's Lipschitz bound is above 1
     s.materials[1].texture = TextureMapping::planar;
     s.materials[1].texture_scale = 0.2;
@@ -120,23 +124,17 @@ Scene lee_glass() {
   return s;
 }
 
-// The seed's shadow bias (start at p + 10 SURF_DIST n) with the scene shrunk 100 times and SURF_DIST kept:
-// shadow rays start beyond the sphere that should block them.
+// The seed's shadow bias, 10 * SURF_DIST along the normal, with SURF_DIST raised to 0.05: shadow rays start
+// 0.5 above the ground, beyond the sphere's 0.2 clearance, and the shadow under it leaks. (The scaled strategy
+// starts 2 * SURF_DIST = 0.1 up and holds.) Time 5.236 swings the light to the side so the shadow is in view.
 Scene lee_flat_defect_bias() {
   Scene s = lee(false);
   s.name = "lee-flat-defect-bias";
-  s.description = "lee-flat at 1/100 scale with the seed's fixed 10 * SURF_DIST shadow bias: shadows leak";
+  s.description = "lee-flat with SURF_DIST 0.05 and the seed's fixed 10 * SURF_DIST shadow offset: shadows leak";
   s.defects = {"bias"};
-  const double k = 0.01;
-  s.root = make(Op::scale, {{"factor", {k}}}, {s.root});
-  s.camera.distance *= k;
-  auto& l = s.lights[0];
-  l.position *= k;
-  l.motion_sin *= k;
-  l.motion_cos *= k;
-  l.bias = ShadowBias::seed_offset;
-  s.march.max_dist *= k;
-  s.march.normal_eps *= k;
+  s.time = 5.236;
+  s.march.hit_eps = 0.05;
+  s.lights[0].bias = ShadowBias::seed_offset;
   return s;
 }
 
@@ -304,7 +302,10 @@ Scene warped() {
   s.lights = {directional_light({-1, -1, 1}, {1, 0.1, 0.1}), directional_light({1, -1, 1}, {0, 0.25, 0}),
               directional_light({0, 1, 1}, {0, 0, 0.25})};
   s.march.max_steps = 256;
-  s.march.hit_eps = 0.02;
+  // The seed's 0.02 leaves hits visibly off a surface this steep (normals off by 37 degrees at the 99th
+  // percentile); 0.002 brings that under 4.
+  s.march.hit_eps = 0.002;
+  s.limits["normal.angle_p99_deg"] = 5;
   s.march.max_dist = 100;
   s.march.normal = NormalMethod::forward;
   s.march.marcher = Marcher::scaled;  // the warp's slope reaches 4: step by f / L

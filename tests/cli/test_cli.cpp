@@ -67,6 +67,19 @@ TEST_F(Cli, ExportedSceneFileRendersLikeTheBuiltin) {
   EXPECT_EQ(da, db);
 }
 
+TEST_F(Cli, ValidateExitsZeroOnPassOneOnAFailedCheckTwoOnBadInput) {
+  const CommandRun ok = run("validate crum-torus --json " + path("v.json"));
+  EXPECT_EQ(ok.status, 0) << ok.output;
+  EXPECT_NE(ok.output.find("crum-torus: PASS"), std::string::npos);
+  std::ifstream json(path("v.json"));
+  const std::string text((std::istreambuf_iterator<char>(json)), {});
+  EXPECT_NE(text.find("\"hit.false_hit\""), std::string::npos);
+  const CommandRun failed = run("validate fogerty-defect-steps");
+  EXPECT_EQ(failed.status, 1);
+  EXPECT_NE(failed.output.find("hit.undecided"), std::string::npos);
+  EXPECT_EQ(run("validate no-such-scene").status, 2);
+}
+
 TEST_F(Cli, BadInputExitsTwoWithAMessageAndWritesNothing) {
   std::ofstream(path("broken.json")) << "{\n  \"sdf\": {\"type\": \"sphere\" \"radius\": 1}\n}\n";
   struct Case {

@@ -25,6 +25,13 @@ struct RenderCommand {
 };
 int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err);
 
+struct ValidateCommand {
+  std::vector<std::string> scenes;  // names or files; "all" = every built-in
+  std::optional<std::string> json;
+  std::vector<std::string> sets;
+};
+int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& err);
+
 // Renders every built-in scene into dir (the main job until the accuracy report exists).
 int run_render_all(const std::string& dir, std::ostream& out, std::ostream& err);
 

@@ -1,0 +1,59 @@
+// References that share no approximation with the marchers: exact CSG ray casting over interval lists built
+// from closed-form primitive intersections, and, for fields with no closed form, a double-precision numerical
+// root finder with a stated error bound.
+#pragma once
+
+#include "marchcheck/sdf/node.hpp"
+#include "marchcheck/sdf/tape.hpp"
+
+#include <glm/glm.hpp>
+
+#include <optional>
+#include <vector>
+
+namespace marchcheck::validation {
+
+// A stretch of the ray inside the solid: entered at t0 through a surface with outward normal n0, left at t1
+// through n1. Infinite ends are +-inf.
+struct Span {
+  double t0, t1;
+  glm::dvec3 n0, n1;
+};
+using Spans = std::vector<Span>;  // sorted by t0, disjoint
+
+// Whether a tree is made only of shapes and operators the exact caster knows (sphere, plane, box, torus,
+// capsule, capped cylinder; union, intersection, subtraction; translate, rotate, uniform scale, rigid
+// affine/animate). time feeds animate.
+bool exact_supported(const sdf::Node& node, double time = 0);
+
+// The solid's spans along origin + t direction (direction unit length). Requires exact_supported.
+Spans cast_exact(const sdf::Node& node, glm::dvec3 origin, glm::dvec3 direction, double time = 0);
+
+// The first surface along a ray, from either reference.
+struct ReferenceHit {
+  bool hit = false;
+  bool inside = false;  // the origin is inside the solid
+  bool unknown = false;  // the numerical reference ran out of steps: no verdict
+  double t = 0;
+  glm::dvec3 normal{0};  // outward
+};
+
+class Reference {
+ public:
+  // Exact casting when the tree allows it, else the numerical root finder on the compiled field in double
+  // with steps f / L (L the declared bound) and bisection of every sign change to 1e-9.
+  Reference(const sdf::Node& node, double time);
+  ReferenceHit first_hit(glm::dvec3 origin, glm::dvec3 direction, double t_max) const;
+  bool exact() const { return exact_; }
+  // Error bound on t of the numerical reference (0 for the exact one).
+  double t_error_bound() const { return exact_ ? 0 : 1e-9; }
+
+ private:
+  sdf::Node node_;
+  double time_;
+  bool exact_;
+  sdf::Tape tape_;
+  double lipschitz_;
+};
+
+}  // namespace marchcheck::validation

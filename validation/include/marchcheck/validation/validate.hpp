@@ -1,0 +1,43 @@
+// The checks: a scene marched as it declares, measured against the references, each metric against a limit.
+#pragma once
+
+#include "marchcheck/sdf/scene.hpp"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace marchcheck::validation {
+
+struct Check {
+  std::string name;   // the metric's dotted name
+  double value = 0;
+  double limit = 0;   // pass when value <= limit
+  bool pass = false;
+  std::string limit_source;  // "default" or "scene"
+  std::string why;           // what the limit stands for
+};
+
+struct SceneResult {
+  std::string scene;
+  std::vector<std::string> defects;
+  std::map<std::string, double> metrics;
+  std::vector<Check> checks;
+  bool pass() const;
+};
+
+struct ValidateOptions {
+  int rays_x = 64, rays_y = 36;  // primary rays sampled across the image
+};
+
+SceneResult validate_scene(const sdf::Scene& scene, const ValidateOptions& options = {});
+
+// The default limits and what each stands for; a scene's `limits` replace them by name.
+struct DefaultLimit {
+  const char* metric;
+  double limit;
+  const char* why;
+};
+const std::vector<DefaultLimit>& default_limits();
+
+}  // namespace marchcheck::validation

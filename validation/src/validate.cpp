@@ -1,0 +1,303 @@
+#include "marchcheck/validation/validate.hpp"
+
+#include "marchcheck/march/camera.hpp"
+#include "marchcheck/march/effects.hpp"
+#include "marchcheck/march/render.hpp"
+#include "marchcheck/validation/reference.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+namespace marchcheck::validation {
+
+using glm::dvec3;
+using march::Outcome;
+
+bool SceneResult::pass() const {
+  return std::all_of(checks.begin(), checks.end(), [](const Check& c) { return c.pass; });
+}
+
+const std::vector<DefaultLimit>& default_limits() {
+  static const std::vector<DefaultLimit> limits = {
+      {"hit.false_hit", 0, "rays marched to a hit where the reference has no surface near (outside the grazing band)"},
+      {"hit.false_miss", 0, "rays marched to a miss through a surface the reference hits"},
+      {"hit.overshoot", 0, "hits beyond the reference's first surface: the march stepped through it"},
+      {"hit.undecided", 0.002, "fraction of rays that ran out of steps (neither hit nor miss)"},
+      {"hit.surface_dist_over_eps", 1.05, "hit point's distance to the surface over the hit threshold there"},
+      {"normal.angle_p99_deg", 2, "99th percentile of the normal's angle error at agreed hits"},
+      {"shadow.false_shadow", 0.002, "fraction of lit reference points the marched shadow darkens (acne)"},
+      {"shadow.false_lit", 0.002, "fraction of shadowed reference points the marched shadow lights (leaks)"},
+      {"sdf.lipschitz_over_declared", 1.001, "measured Lipschitz constant over the declared one"},
+      {"march.safe_step_ratio", 1.001, "measured Lipschitz constant times the marcher's step per unit of f"},
+      {"sdf.overestimate_max", 1e-6, "largest |f|/L minus the true distance's upper bound (> 0: not a bound)"},
+      {"camera.fov_err_deg", 1e-6, "field of view the rays span minus the declared one"},
+      {"camera.ray_norm_err", 1e-6, "largest | |direction| - 1 | of the generated rays"},
+  };
+  return limits;
+}
+
+namespace {
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size() - 1) + 0.5))];
+}
+
+// Exact fields, and unions and rigid motions of them, give the true distance outside the solid.
+bool is_exact_outside(const sdf::Node& n, double time) {
+  if (sdf::derive_info(n, time).kind == sdf::Kind::exact) return true;
+  switch (n.op) {
+    case sdf::Op::union_:
+    case sdf::Op::translate:
+    case sdf::Op::rotate:
+    case sdf::Op::scale:
+      return std::all_of(n.children.begin(), n.children.end(), [&](const sdf::Node& c) { return is_exact_outside(c, time); });
+    default: return false;
+  }
+}
+
+template <class T>
+struct Runner {
+  const sdf::Scene& scene;
+  const sdf::Tape& tape;
+  const march::MarchContext& ctx;
+
+  march::RayRecord<T> march_ray(dvec3 o, dvec3 d) const {
+    auto r = march::march<T>(march::TapeField{&tape}, glm::vec<3, T>(o), glm::vec<3, T>(d), scene.march, ctx);
+    if (scene.march.miss_as_zero && r.outcome != Outcome::hit) {
+      r.outcome = Outcome::hit;  // how the seed's consumer reads a miss encoded as distance 0
+      r.t = 0;
+    }
+    return r;
+  }
+  dvec3 normal(dvec3 p, double t) const {
+    const auto& s = scene.march;
+    const T eps = T(s.normal_eps_scaled ? s.normal_eps * t : s.normal_eps);
+    return dvec3(march::estimate_normal(march::TapeField{&tape}, glm::vec<3, T>(p), s.normal, eps).n);
+  }
+  double visibility(dvec3 p, dvec3 n, dvec3 to_light, double dist, double t, const sdf::Light& light) const {
+    return march::shadow_visibility<T>(march::TapeField{&tape}, glm::vec<3, T>(p), glm::vec<3, T>(n),
+                                       glm::vec<3, T>(to_light), static_cast<T>(dist), static_cast<T>(t), light,
+                                       scene.march, ctx)
+        .visibility;
+  }
+};
+
+template <class T>
+void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::string, double>& m) {
+  const sdf::Tape tape = sdf::compile(scene.root, scene.time);
+  const sdf::Node& intended = scene.intended ? *scene.intended : scene.root;
+  const Reference ref(intended, scene.time);
+  const march::Camera camera(scene.camera, scene.width, scene.height);
+  march::MarchContext ctx;
+  const sdf::FieldInfo info = sdf::derive_info(scene.root, scene.time);
+  ctx.lipschitz = info.lipschitz;
+  ctx.footprint_at_0 = camera.footprint_at_0();
+  ctx.footprint_slope = camera.footprint_slope();
+  const Runner<T> run{scene, tape, ctx};
+  const bool exact_outside = is_exact_outside(scene.root, scene.time);
+  const double max_dist = std::isfinite(scene.march.max_dist) ? scene.march.max_dist : 1e6;
+
+  int rays = 0, false_hit = 0, false_miss = 0, overshoot = 0, undecided = 0, ambiguous = 0;
+  int shadow_samples = 0, false_shadow = 0, false_lit = 0;
+  double ray_norm_err = 0, surface_over_eps = 0, surface_dist_max = 0, evals = 0;
+  std::vector<double> t_err, angle;
+  std::vector<std::pair<dvec3, double>> surface_points;  // reference hits and their distance, for the SDF checks
+
+  for (int j = 0; j < opt.rays_y; ++j)
+    for (int i = 0; i < opt.rays_x; ++i) {
+      const double px = (i + 0.5) * scene.width / opt.rays_x, py = (j + 0.5) * scene.height / opt.rays_y;
+      const march::Ray ray = camera.ray(px, py);
+      const double len = glm::length(ray.direction);
+      ray_norm_err = std::max(ray_norm_err, std::abs(len - 1));
+      const dvec3 dn = ray.direction / len;
+      const auto rec = run.march_ray(ray.origin, ray.direction);
+      evals += rec.evals;
+      ++rays;
+      const ReferenceHit rh = ref.first_hit(ray.origin, dn, max_dist);
+      if (rh.inside || rh.unknown) continue;
+      // Grazing band: rays whose neighbours a hit threshold away disagree with them are left out.
+      const double t_scale = rh.hit ? rh.t : std::min(max_dist, 10.0);
+      const double band = 2 * static_cast<double>(march::hit_threshold<double>(scene.march, ctx, t_scale)) + 1e-7 * (1 + t_scale);
+      const dvec3 side = glm::normalize(glm::cross(dn, std::abs(dn.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0)));
+      const dvec3 up = glm::cross(side, dn);
+      bool grazing = false;
+      for (const dvec3 offset : {side, -side, up, -up})
+        grazing = grazing || ref.first_hit(ray.origin + offset * band, dn, max_dist).hit != rh.hit;
+      if (grazing) {
+        ++ambiguous;
+        continue;
+      }
+      if (rec.outcome == Outcome::miss_steps) ++undecided;
+      const double t_m = static_cast<double>(rec.t) * len;
+      const double eps_m = static_cast<double>(march::hit_threshold<double>(scene.march, ctx, static_cast<double>(rec.t)));
+      if (rec.outcome == Outcome::hit) {
+        const dvec3 p_m = ray.origin + ray.direction * static_cast<double>(rec.t);
+        const dvec3 n_m = run.normal(p_m, static_cast<double>(rec.t));
+        // An upper bound on the hit point's distance to the true surface: the nearest reference surface along
+        // 26 directions, the ray's own and the reference normal's reverse (exact where the surface is flat).
+        double upper = rh.hit ? std::abs(rh.t - t_m) : INFINITY;
+        bool inside = false;
+        auto probe = [&](dvec3 dir) {
+          const ReferenceHit h = ref.first_hit(p_m, glm::normalize(dir), 1e9);
+          inside = inside || h.inside;
+          if (h.hit) upper = std::min(upper, h.t);
+        };
+        if (rh.hit) probe(-rh.normal);
+        if (glm::length(n_m) > 0) probe(-n_m);
+        for (int a = -1; a <= 1; ++a)
+          for (int b = -1; b <= 1; ++b)
+            for (int c = -1; c <= 1; ++c)
+              if (a != 0 || b != 0 || c != 0) probe(dvec3(a, b, c));
+        // Float rounding of the hit point itself is allowed on top of the threshold.
+        const double rounding = 4 * std::numeric_limits<T>::epsilon() * (glm::length(ray.origin) + t_m);
+        const double allowed = eps_m * len + rounding + ref.t_error_bound();
+        if (inside) upper = 0;  // within the solid: the surface distance is unknown, the hit is wrong anyway
+        if (inside || (rh.hit && t_m > rh.t + band && upper > allowed)) {
+          ++overshoot;  // the march went through the first surface
+          continue;
+        }
+        if (upper > 2 * allowed + band) {
+          ++false_hit;  // nothing the reference knows is near the marched hit
+          continue;
+        }
+        surface_dist_max = std::max(surface_dist_max, upper);
+        // Only a field exact outside its solid promises hits within the threshold: a bound may stop farther.
+        if (exact_outside) surface_over_eps = std::max(surface_over_eps, upper / (allowed + 1e-300));
+        if (!rh.hit) continue;  // a legitimate near-hit on a surface the ray itself passes by
+        t_err.push_back(std::abs(t_m - rh.t));
+        angle.push_back(std::acos(std::clamp(glm::dot(n_m, rh.normal), -1.0, 1.0)) * 180 / std::numbers::pi);
+        const dvec3 p_r = ray.origin + dn * rh.t;
+        surface_points.push_back({p_r, rh.t});
+        for (const auto& light : scene.lights) {
+          if (light.shadow == sdf::ShadowMode::none) continue;
+          const dvec3 lp = light.position_at(scene.time);
+          const bool point = light.type == sdf::LightType::point;
+          const dvec3 to_light = point ? glm::normalize(lp - p_r) : -glm::normalize(light.direction);
+          const double dist = point ? glm::length(lp - p_r) : max_dist;
+          if (glm::dot(to_light, rh.normal) < 0.05) continue;  // at or past the terminator: self-shadowed either way
+          const double lift = 1e-7 * (1 + glm::length(p_r));
+          const dvec3 start = p_r + rh.normal * lift;
+          const bool lit = !ref.first_hit(start, to_light, dist).hit;
+          // Shadow edges: points whose shadow ray, moved by twice the hit threshold, changes its verdict.
+          const double sband = 2 * eps_m * len + 1e-6 * (1 + dist);
+          const dvec3 s_side = glm::normalize(glm::cross(to_light, std::abs(to_light.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0)));
+          const dvec3 s_up = glm::cross(s_side, to_light);
+          bool edge = false;
+          for (const dvec3 offset : {s_side, -s_side, s_up, -s_up})
+            edge = edge || (!ref.first_hit(start + offset * sband, to_light, dist).hit) != lit;
+          if (edge) continue;
+          ++shadow_samples;
+          const double v = run.visibility(p_m, n_m, to_light, point ? glm::length(lp - p_m) : INFINITY,
+                                          static_cast<double>(rec.t), light);
+          if (lit && v < 0.5) ++false_shadow;
+          if (!lit && v >= 0.5) ++false_lit;
+        }
+      } else if (rec.outcome == Outcome::miss_far && rh.hit && rh.t < max_dist * 0.999) {
+        ++false_miss;
+      }
+    }
+  m["hit.rays"] = rays;
+  m["hit.grazing_excluded"] = ambiguous;
+  m["hit.false_hit"] = false_hit;
+  m["hit.false_miss"] = false_miss;
+  m["hit.overshoot"] = overshoot;
+  m["hit.undecided"] = rays > 0 ? static_cast<double>(undecided) / rays : 0;
+  m["hit.t_err_max"] = t_err.empty() ? 0 : *std::max_element(t_err.begin(), t_err.end());
+  m["hit.t_err_p99"] = percentile(t_err, 0.99);
+  m["hit.surface_dist_max"] = surface_dist_max;
+  if (exact_outside) m["hit.surface_dist_over_eps"] = surface_over_eps;
+  m["normal.angle_max_deg"] = angle.empty() ? 0 : *std::max_element(angle.begin(), angle.end());
+  m["normal.angle_p99_deg"] = percentile(angle, 0.99);
+  double mean = 0;
+  for (double a : angle) mean += a / static_cast<double>(angle.size());
+  m["normal.angle_mean_deg"] = mean;
+  if (shadow_samples > 0) {
+    m["shadow.samples"] = shadow_samples;
+    m["shadow.false_shadow"] = static_cast<double>(false_shadow) / shadow_samples;
+    m["shadow.false_lit"] = static_cast<double>(false_lit) / shadow_samples;
+  }
+  m["camera.ray_norm_err"] = ray_norm_err;
+  if (scene.camera.model == sdf::CameraModel::pinhole || scene.camera.model == sdf::CameraModel::frustum)
+    m["camera.fov_err_deg"] = std::abs(camera.measured_vertical_fov_deg() - scene.camera.fov_deg);
+  m["cost.march_evals_per_ray"] = rays > 0 ? evals / rays : 0;
+
+  // The field against its declaration, near the surfaces the camera sees: Lipschitz by finite differences in
+  // double; boundedness against the reference distance's upper bound (the nearest surface along 26
+  // directions), only where that reference is exact.
+  std::mt19937 rng(1234);
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> u(0, 1);
+  double lipschitz = 0, overestimate = -INFINITY;
+  const double declared = info.lipschitz;
+  const size_t stride = std::max<size_t>(1, surface_points.size() / 300);
+  for (size_t k = 0; k < surface_points.size(); k += stride) {
+    const auto [p0, t0] = surface_points[k];
+    const double scale = 0.05 * (1 + t0);
+    for (int rep = 0; rep < 8; ++rep) {
+      const dvec3 p = p0 + glm::normalize(dvec3(g(rng), g(rng), g(rng))) * (scale * u(rng));
+      const dvec3 dir = glm::normalize(dvec3(g(rng), g(rng), g(rng)));
+      const double h = 1e-5 * scale;
+      lipschitz = std::max(lipschitz, std::abs(sdf::evaluate(tape, p + dir * h) - sdf::evaluate(tape, p)) / h);
+      if (!ref.exact() || rep > 1) continue;
+      double upper = INFINITY;
+      bool inside = false;
+      for (int a = -1; a <= 1; ++a)
+        for (int b = -1; b <= 1; ++b)
+          for (int c = -1; c <= 1; ++c) {
+            if (a == 0 && b == 0 && c == 0) continue;
+            const ReferenceHit hit = ref.first_hit(p, glm::normalize(dvec3(a, b, c)), 1e9);
+            inside = inside || hit.inside;
+            if (hit.hit) upper = std::min(upper, hit.t);
+          }
+      if (inside || !std::isfinite(upper)) continue;  // the upper bound needs a point outside
+      overestimate = std::max(overestimate, std::abs(sdf::evaluate(tape, p)) / declared - upper);
+    }
+  }
+  m["sdf.lipschitz_declared"] = declared;
+  m["sdf.lipschitz_measured"] = lipschitz;
+  m["sdf.lipschitz_over_declared"] = lipschitz / declared;
+  // How far one step can reach past the surface: step = f * scale along a direction of length |d|, and f may
+  // change by L per unit; above 1 a step can cross the surface. (The relaxed marcher's fallback is its own
+  // guard: its base step counts.)
+  const double per_unit = scene.march.marcher == sdf::Marcher::scaled ? scene.march.step_scale / declared
+                          : scene.march.marcher == sdf::Marcher::fixed ? 0
+                                                                        : scene.march.step_scale;
+  m["march.safe_step_ratio"] = lipschitz * per_unit * (1 + ray_norm_err);
+  if (std::isfinite(overestimate)) m["sdf.overestimate_max"] = overestimate;
+}
+
+}  // namespace
+
+SceneResult validate_scene(const sdf::Scene& scene, const ValidateOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  SceneResult r;
+  r.scene = scene.name;
+  r.defects = scene.defects;
+  if (scene.march.precision == sdf::Precision::dual) {
+    measure<double>(scene, options, r.metrics);
+  } else {
+    measure<float>(scene, options, r.metrics);
+  }
+  r.metrics["cost.seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (const auto& d : default_limits()) {
+    auto value = r.metrics.find(d.metric);
+    if (value == r.metrics.end()) continue;  // not applicable to this scene
+    Check c;
+    c.name = d.metric;
+    c.value = value->second;
+    c.why = d.why;
+    auto own = scene.limits.find(d.metric);
+    c.limit = own != scene.limits.end() ? own->second : d.limit;
+    c.limit_source = own != scene.limits.end() ? "scene" : "default";
+    c.pass = c.value <= c.limit;
+    r.checks.push_back(c);
+  }
+  return r;
+}
+
+}  // namespace marchcheck::validation
