@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--size", render.size, "Image size WIDTHxHEIGHT");
   render_cmd->add_option("--aov", render.aovs, "Extra outputs: depth,normal,steps,evals,id,stages (per-stage evaluation heat maps)");
   render_cmd->add_option("--stats", render.stats, "Write the cost per stage as JSON");
+  render_cmd->add_flag("--reference", render.reference, "Render from the exact references instead of marching");
   render_cmd->add_option("--set", render.sets, "Override a scene or marching parameter KEY=VALUE (repeatable)");
 
   ValidateCommand validate;

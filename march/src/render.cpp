@@ -90,7 +90,7 @@ struct Pipeline {
        refraction = false, textures = false;
 };
 
-Pipeline plan(const sdf::Scene& scene, const std::vector<Aov>& aovs) {
+Pipeline plan(const sdf::Scene& scene, const std::vector<Aov>& aovs, bool reference) {
   Pipeline p;
   const bool aov_normal = std::find(aovs.begin(), aovs.end(), Aov::normal) != aovs.end();
   const bool aov_id = std::find(aovs.begin(), aovs.end(), Aov::id) != aovs.end();
@@ -105,6 +105,7 @@ Pipeline plan(const sdf::Scene& scene, const std::vector<Aov>& aovs) {
   }
   p.normals = lit || aov_normal || p.ao_samples || p.reflection || p.refraction ||
               scene.effects.shading == sdf::Shading::toon;
+  if (reference) p.ao_samples = p.reflection = p.refraction = false;
   return p;
 }
 
@@ -115,6 +116,7 @@ struct Context {
   MarchContext march;
   Pipeline pipeline;
   std::unique_ptr<MeshOccluder> meshes;  // only when the scene has triangle meshes
+  const SurfaceOracle* oracle;           // reference renders
 };
 
 template <class T>
@@ -222,6 +224,19 @@ struct Tracer {
   std::uint64_t shadows(Vec<T> p, Vec<T> n, T t, double* visibility) {
     const TapeField field{&ctx.tape};
     std::uint64_t evals = 0;
+    if (ctx.oracle) {
+      for (size_t i = 0; i < ctx.scene.lights.size(); ++i) {
+        const auto& light = ctx.scene.lights[i];
+        visibility[i] = 1;
+        if (light.shadow == sdf::ShadowMode::none) continue;
+        const glm::dvec3 pd(p), nd(n), lp = light.position_at(ctx.scene.time);
+        const bool point = light.type == sdf::LightType::point;
+        const glm::dvec3 l = point ? glm::normalize(lp - pd) : -glm::normalize(light.direction);
+        const double lift = 1e-7 * (1 + glm::length(pd));
+        visibility[i] = ctx.oracle->first_hit(pd + nd * lift, l, point ? glm::length(lp - pd) : 1e9) ? 0.0 : 1.0;
+      }
+      return 0;
+    }
     for (size_t i = 0; i < ctx.scene.lights.size(); ++i) {
       const auto& light = ctx.scene.lights[i];
       visibility[i] = 1;
@@ -331,6 +346,24 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
       p.origin = V(ray.origin);
       p.direction = V(ray.direction);
     }
+    if (ctx.oracle) {
+      const double len = glm::length(glm::dvec3(p.direction));
+      const auto hit = ctx.oracle->first_hit(glm::dvec3(p.origin), glm::dvec3(p.direction) / len, s.max_dist);
+      p.record = {};
+      p.record.outcome = hit ? Outcome::hit : Outcome::miss_far;
+      p.record.t = hit ? static_cast<T>(hit->t / len) : T(0);
+      if (hit) p.normal = V(hit->normal);
+      p.hit = hit.has_value();
+      if (p.mesh.hit && (!hit || p.mesh.t < hit->t / len)) {
+        p.hit = false;
+        p.on_mesh = true;
+        p.record.t = static_cast<T>(p.mesh.t);
+        p.normal = V(p.mesh.normal);
+        p.material = p.mesh.material;
+      }
+      for (auto& v : p.visibility) v = 1;
+      return 0;
+    }
     if (p.mesh.hit) {
       // The march stops at the mesh, as the seed's does at the depth buffer's distance.
       MarchSettings to_mesh = s;
@@ -354,7 +387,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     for (auto& v : p.visibility) v = 1;
     return p.record.evals;
   });
-  if (pipe.normals)
+  if (pipe.normals && !ctx.oracle)
     stage(kNormal, [&](PixelState& p, int, int) {
       if (!p.hit) return 0;
       const auto n = estimate_normal(field, V(p.origin + p.direction * p.record.t), s.normal, normal_epsilon(s, p.record.t));
@@ -396,11 +429,11 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     const glm::dvec3 hit = glm::dvec3(p.origin) + glm::dvec3(p.direction) * static_cast<double>(p.record.t);
     if (p.hit || p.on_mesh) {
       const glm::dvec3 n(p.normal);
-      const glm::dvec3 eye = fx.eye_is_ray_direction ? glm::dvec3(p.direction) : glm::dvec3(p.origin);
+      const glm::dvec3 eye = fx.eye_is_ray_direction && !ctx.oracle ? glm::dvec3(p.direction) : glm::dvec3(p.origin);
       const glm::dvec3 albedo = pipe.materials || p.on_mesh ? material_color(ctx, p.material, hit, n) : glm::dvec3(0.8);
       color = ctx.scene.lights.empty() && !pipe.materials ? glm::dvec3(0)
                                                           : direct_light(ctx, hit, n, eye, albedo, p.material, p.visibility, p.ao);
-      if (fx.ao == sdf::AmbientOcclusion::steps)
+      if (fx.ao == sdf::AmbientOcclusion::steps && !ctx.oracle)
         color -= glm::dvec3(static_cast<double>(p.record.steps) * p.record.steps * fx.ao_steps_scale);
       if (pipe.reflection || pipe.refraction) {
         const auto bounce_start = Clock::now();
@@ -414,7 +447,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
       }
       color = glm::max(color, glm::dvec3(0));
       if (fx.fog > 0) color = glm::mix(fx.fog_color, color, std::exp(-fx.fog * static_cast<double>(p.record.t)));
-    } else if (fx.glow > 0) {
+    } else if (fx.glow > 0 && !ctx.oracle) {
       const double g = std::clamp(1 - static_cast<double>(p.record.min_abs_f) / fx.glow_width, 0.0, 1.0);
       color += fx.glow_color * (fx.glow * g * g);
     }
@@ -435,11 +468,12 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
 
 }  // namespace
 
-RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs) {
+RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const SurfaceOracle* oracle) {
   const auto start = Clock::now();
   const int w = scene.width, h = scene.height;
   if (scene.lights.size() > kMaxLights) throw std::invalid_argument("at most 16 lights");
-  Context ctx{scene, sdf::compile(scene.root, scene.time), Camera(scene.camera, w, h), {}, plan(scene, aovs), nullptr};
+  Context ctx{scene,  sdf::compile(scene.root, scene.time), Camera(scene.camera, w, h), {}, plan(scene, aovs, oracle),
+              nullptr, oracle};
   ctx.march.lipschitz = sdf::derive_info(scene.root, scene.time).lipschitz;
   ctx.march.footprint_at_0 = ctx.camera.footprint_at_0();
   ctx.march.footprint_slope = ctx.camera.footprint_slope();

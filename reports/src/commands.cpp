@@ -90,7 +90,13 @@ int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err) {
     err << "marchcheck render: " << e.what() << "\n";
     return kBadInput;
   }
-  const auto result = march::render(scene, aovs);
+  std::optional<validation::Reference> reference;
+  std::optional<march::SurfaceOracle> oracle;
+  if (cmd.reference) {
+    reference.emplace(scene.intended ? *scene.intended : scene.root, scene.time);
+    oracle = validation::oracle_of(*reference);
+  }
+  const auto result = march::render(scene, aovs, oracle ? &*oracle : nullptr);
   try {
     march::write_render(result, cmd.output, aovs);
     if (cmd.stats) write_text_atomically(*cmd.stats, metrics_json(march::cost_metrics(result)));

@@ -26,6 +26,7 @@ const std::map<std::string, std::string> kDefectTable = {
     {"crum-lattice-defect-lipschitz", "hit.overshoot"},
     {"fogerty-defect-steps", "hit.undecided"},
     {"fogerty-defect-miss0", "hit.false_hit"},
+    {"fogerty-defect-camera", "image.pixels_over"},
     {"warped-defect-unnormalised", "camera.ray_norm_err"},
     {"warped-defect-lipschitz", "hit.overshoot"},
     {"flafla-torus-defect-no-drawdist", "hit.undecided"},

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <random>
 
 namespace marchcheck::validation {
@@ -33,6 +34,7 @@ const std::vector<DefaultLimit>& default_limits() {
       {"sdf.lipschitz_over_declared", 1.001, "measured Lipschitz constant over the declared one"},
       {"march.safe_step_ratio", 1.001, "measured Lipschitz constant times the marcher's step per unit of f"},
       {"sdf.overestimate_max", 1e-6, "largest |f|/L minus the true distance's upper bound (> 0: not a bound)"},
+      {"image.pixels_over", 0.02, "fraction of pixels whose colour differs from the reference render by > 0.1"},
       {"camera.fov_err_deg", 1e-6, "field of view the rays span minus the declared one"},
       {"camera.ray_norm_err", 1e-6, "largest | |direction| - 1 | of the generated rays"},
   };
@@ -271,7 +273,53 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
   if (std::isfinite(overestimate)) m["sdf.overestimate_max"] = overestimate;
 }
 
+// The marched render beside the reference render (exact hits, normals and shadows; the true eye), both at
+// reduced size with the effects only marching defines left out of both.
+void compare_images(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::string, double>& m) {
+  sdf::Scene small = scene;
+  const double k = std::min(1.0, static_cast<double>(opt.image_width) / scene.width);
+  small.width = std::max(1, static_cast<int>(scene.width * k));
+  small.height = std::max(1, static_cast<int>(scene.height * k));
+  small.camera.fx *= k;
+  small.camera.fy *= k;
+  if (small.camera.cx >= 0) small.camera.cx *= k;
+  if (small.camera.cy >= 0) small.camera.cy *= k;
+  small.effects.ao = sdf::AmbientOcclusion::none;
+  small.effects.glow = 0;
+  small.effects.max_bounces = 0;
+  const Reference ref(scene.intended ? *scene.intended : scene.root, scene.time);
+  const march::SurfaceOracle oracle = oracle_of(ref);
+  const march::RenderResult marched = march::render(small), reference = march::render(small, {}, &oracle);
+  double sum2 = 0, worst = 0;
+  size_t over = 0;
+  const size_t pixels = marched.color.pixels.size() / 3;
+  for (size_t i = 0; i < pixels; ++i) {
+    double pixel_worst = 0;
+    for (size_t c = 0; c < 3; ++c) {
+      const double a = std::clamp<double>(marched.color.pixels[3 * i + c], 0, 1);
+      const double b = std::clamp<double>(reference.color.pixels[3 * i + c], 0, 1);
+      sum2 += (a - b) * (a - b);
+      pixel_worst = std::max(pixel_worst, std::abs(a - b));
+    }
+    worst = std::max(worst, pixel_worst);
+    if (pixel_worst > opt.image_threshold) ++over;
+  }
+  const double rms = std::sqrt(sum2 / static_cast<double>(3 * pixels));
+  m["image.rms"] = rms;
+  m["image.max"] = worst;
+  m["image.psnr"] = rms > 0 ? 20 * std::log10(1 / rms) : 99;
+  m["image.pixels_over"] = static_cast<double>(over) / static_cast<double>(pixels);
+}
+
 }  // namespace
+
+march::SurfaceOracle oracle_of(const Reference& ref) {
+  return {[&ref](dvec3 o, dvec3 d, double t_max) -> std::optional<march::SurfaceOracle::Hit> {
+    const ReferenceHit h = ref.first_hit(o, d, t_max);
+    if (!h.hit) return std::nullopt;
+    return march::SurfaceOracle::Hit{h.t, h.normal};
+  }};
+}
 
 SceneResult validate_scene(const sdf::Scene& scene, const ValidateOptions& options) {
   const auto start = std::chrono::steady_clock::now();
@@ -283,6 +331,7 @@ SceneResult validate_scene(const sdf::Scene& scene, const ValidateOptions& optio
   } else {
     measure<float>(scene, options, r.metrics);
   }
+  if (options.image_width > 0) compare_images(scene, options, r.metrics);
   r.metrics["cost.seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   for (const auto& d : default_limits()) {
     auto value = r.metrics.find(d.metric);

@@ -7,6 +7,8 @@
 #include "marchcheck/sdf/tape.hpp"
 
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <map>
 #include <string>
 #include <vector>
@@ -58,9 +60,21 @@ struct RenderResult {
   double evals_per_pixel() const;
 };
 
+// Exact answers that replace marching, for reference renders: the first surface along a unit-length ray
+// within t_max (distance and outward normal), or nothing.
+struct SurfaceOracle {
+  struct Hit {
+    double t;
+    glm::dvec3 normal;
+  };
+  std::function<std::optional<Hit>(glm::dvec3 origin, glm::dvec3 direction, double t_max)> first_hit;
+};
+
 // Renders at the scene's width and height. Only what the scene declares (and the AOVs asked for) is computed:
-// an undeclared stage spends no evaluation and no time.
-RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs = {});
+// an undeclared stage spends no evaluation and no time. With an oracle, primary hits, normals and hard
+// shadows come from it instead of the marcher, shading uses the camera's true eye, and the effects that only
+// marching defines (step-count occlusion, glow, sampled occlusion, bounces) are left out.
+RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs = {}, const SurfaceOracle* oracle = nullptr);
 
 // Dotted cost metrics: cost.stages.<stage>.evals/.seconds, cost.evals_per_pixel, cost.steps_max, cost.seconds.
 std::map<std::string, double> cost_metrics(const RenderResult& result);

@@ -22,6 +22,7 @@ struct RenderCommand {
   std::string aovs;                 // "depth,normal,..."
   std::optional<std::string> stats;
   std::vector<std::string> sets;  // "KEY=VALUE"
+  bool reference = false;         // exact references instead of marching
 };
 int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err);
 

@@ -1,7 +1,9 @@
 // The checks: a scene marched as it declares, measured against the references, each metric against a limit.
 #pragma once
 
+#include "marchcheck/march/render.hpp"
 #include "marchcheck/sdf/scene.hpp"
+#include "marchcheck/validation/reference.hpp"
 
 #include <map>
 #include <string>
@@ -28,7 +30,12 @@ struct SceneResult {
 
 struct ValidateOptions {
   int rays_x = 64, rays_y = 36;  // primary rays sampled across the image
+  int image_width = 320;         // width of the marched/reference image pair (0: no image comparison)
+  double image_threshold = 0.1;  // a pixel "differs" when a channel differs by more than this
 };
+
+// The reference as the renderer's oracle (for reference renders); ref must outlive it.
+march::SurfaceOracle oracle_of(const Reference& ref);
 
 SceneResult validate_scene(const sdf::Scene& scene, const ValidateOptions& options = {});
 
