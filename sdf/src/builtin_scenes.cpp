@@ -48,6 +48,13 @@ Scene base(std::string name, std::string description) {
   return s;
 }
 
+// The seed's ground texture: the soil picture at fract(0.2 p.xz).
+void soil_ground(Material& m) {
+  m.texture = TextureMapping::planar;
+  m.texture_scale = 0.2;
+  m.color = glm::dvec3(1.2);
+}
+
 // lee: sphere (0, 1.2, 0) r 1 over the ground; orbit camera, f = 600 px intrinsics, k1 = 0.3; a point light
 // circling at (6 sin 0.3t, 5, 6 cos 0.3t); hard shadows darkening diffuse to 0.3; Phong specular.
 Scene lee(bool terrain) {
@@ -93,9 +100,7 @@ Scene lee(bool terrain) {
     // Central differences at the seed's eps 0.01 across noise features of 0.25 units.
     s.limits["normal.angle_p99_deg"] = 5;
     s.march.marcher = Marcher::scaled;  // the height field's Lipschitz bound is above 1
-    s.materials[1].texture = TextureMapping::planar;
-    s.materials[1].texture_scale = 0.2;
-    s.materials[1].color = glm::dvec3(1.2);
+    soil_ground(s.materials[1]);
   }
   return s;
 }
@@ -107,9 +112,7 @@ Scene lee_textured() {
                   "the sphere";
   s.materials[0].texture = TextureMapping::spherical;
   s.materials[0].color = {0.9, 1.2, 1.6};
-  s.materials[1].texture = TextureMapping::planar;
-  s.materials[1].texture_scale = 0.2;
-  s.materials[1].color = glm::dvec3(1.2);
+  soil_ground(s.materials[1]);
   return s;
 }
 
