@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
 #include <map>
 
 namespace marchcheck::validation {
@@ -62,6 +63,60 @@ TEST(Limits, SceneLimitsReplaceDefaultsAndSayWhose) {
   EXPECT_TRUE(c->pass);
   EXPECT_EQ(c->limit_source, "scene");
   EXPECT_EQ(find(r, "hit.false_hit")->limit_source, "default");
+}
+
+}  // namespace
+}  // namespace marchcheck::validation
+
+namespace marchcheck::validation {
+namespace {
+
+// Checks the defect table does not exercise, each failing on a deliberately broken set-up.
+TEST(BrokenVariants, EachRemainingCheckCanFail) {
+  struct Case {
+    const char* what;
+    const char* scene;
+    std::function<void(sdf::Scene&)> broken;
+    const char* check;
+  };
+  const Case cases[] = {
+      {"steps twice as long as the field allows tunnel through thin bars", "flafla-csg",
+       [](sdf::Scene& s) {
+         s.root = sdf::box({3, 0.02, 3});
+         s.march.step_scale = 2;
+         s.march.hit_eps = 1e-5;
+       },
+       "hit.false_miss"},
+      {"shadow hits closer than 100 hit thresholds ignored: the sphere no longer shades the ground", "lee-flat",
+       [](sdf::Scene& s) {
+         s.lights[0].bias = sdf::ShadowBias::seed_ignore;
+         s.lights[0].bias_factor = 100;
+       },
+       "shadow.false_lit"},
+      {"forward differences at eps 0.3", "crum-torus",
+       [](sdf::Scene& s) {
+         s.march.normal = sdf::NormalMethod::forward;
+         s.march.normal_eps = 0.3;
+       },
+       "normal.angle_p99_deg"},
+      {"the Mandelbulb estimator declared 2-Lipschitz", "crum-mandelbulb", [](sdf::Scene&) {},
+       "sdf.lipschitz_over_declared"},
+  };
+  for (const auto& c : cases) {
+    sdf::Scene scene = sdf::builtin_scene(c.scene);
+    if (std::string(c.check) == "shadow.false_lit") scene.time = 5.236;  // the light to the side: shadow in view
+    const SceneResult correct = validate_scene(scene);
+    const Check* before = find(correct, c.check);
+    c.broken(scene);
+    const SceneResult r = validate_scene(scene);
+    const Check* after = find(r, c.check);
+    ASSERT_NE(after, nullptr) << c.what;
+    EXPECT_FALSE(after->pass) << c.what << ": " << after->value;
+    if (std::string(c.scene) != "crum-mandelbulb") {
+      ASSERT_NE(before, nullptr) << c.what;
+      EXPECT_TRUE(before->pass) << c.what << " passes before it is broken";
+    }
+  }
 }
 
 }  // namespace

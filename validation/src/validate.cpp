@@ -107,7 +107,7 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
   int rays = 0, false_hit = 0, false_miss = 0, overshoot = 0, undecided = 0, ambiguous = 0;
   int shadow_samples = 0, false_shadow = 0, false_lit = 0;
   double ray_norm_err = 0, surface_over_eps = 0, surface_dist_max = 0, evals = 0;
-  std::vector<double> t_err, angle;
+  std::vector<double> t_err, angle, edge_angle;  // normal errors away from edges and at sharp edges
   std::vector<std::pair<dvec3, double>> surface_points;  // reference hits and their distance, for the SDF checks
 
   for (int j = 0; j < opt.rays_y; ++j)
@@ -127,9 +127,13 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
       const double band = 2 * static_cast<double>(march::hit_threshold<double>(scene.march, ctx, t_scale)) + 1e-7 * (1 + t_scale);
       const dvec3 side = glm::normalize(glm::cross(dn, std::abs(dn.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0)));
       const dvec3 up = glm::cross(side, dn);
-      bool grazing = false;
-      for (const dvec3 offset : {side, -side, up, -up})
-        grazing = grazing || ref.first_hit(ray.origin + offset * band, dn, max_dist).hit != rh.hit;
+      bool grazing = false, at_edge = false;
+      for (const dvec3 offset : {side, -side, up, -up}) {
+        const ReferenceHit neighbour = ref.first_hit(ray.origin + offset * band, dn, max_dist);
+        grazing = grazing || neighbour.hit != rh.hit;
+        // A neighbour's surface turning by more than 10 degrees: a sharp edge or crease at this pixel.
+        at_edge = at_edge || (neighbour.hit && rh.hit && glm::dot(neighbour.normal, rh.normal) < 0.985);
+      }
       if (grazing) {
         ++ambiguous;
         continue;
@@ -172,7 +176,8 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
         if (exact_outside) surface_over_eps = std::max(surface_over_eps, upper / (allowed + 1e-300));
         if (!rh.hit) continue;  // a legitimate near-hit on a surface the ray itself passes by
         t_err.push_back(std::abs(t_m - rh.t));
-        angle.push_back(std::acos(std::clamp(glm::dot(n_m, rh.normal), -1.0, 1.0)) * 180 / std::numbers::pi);
+        (at_edge ? edge_angle : angle)
+            .push_back(std::acos(std::clamp(glm::dot(n_m, rh.normal), -1.0, 1.0)) * 180 / std::numbers::pi);
         const dvec3 p_r = ray.origin + dn * rh.t;
         surface_points.push_back({p_r, rh.t});
         for (const auto& light : scene.lights) {
@@ -191,7 +196,8 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
           const dvec3 s_up = glm::cross(s_side, to_light);
           bool edge = false;
           for (const dvec3 offset : {s_side, -s_side, s_up, -s_up})
-            edge = edge || (!ref.first_hit(start + offset * sband, to_light, dist).hit) != lit;
+            // Lifted along the normal as far as it moves sideways, so the start never sinks into the surface.
+            edge = edge || (!ref.first_hit(start + (offset + rh.normal) * sband, to_light, dist).hit) != lit;
           if (edge) continue;
           ++shadow_samples;
           const double v = run.visibility(p_m, n_m, to_light, point ? glm::length(lp - p_m) : INFINITY,
@@ -218,6 +224,11 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
   double mean = 0;
   for (double a : angle) mean += a / static_cast<double>(angle.size());
   m["normal.angle_mean_deg"] = mean;
+  if (!edge_angle.empty()) {
+    m["normal.edge_samples"] = static_cast<double>(edge_angle.size());
+    m["normal.edge_angle_max_deg"] = *std::max_element(edge_angle.begin(), edge_angle.end());
+    m["normal.edge_angle_p99_deg"] = percentile(edge_angle, 0.99);
+  }
   if (shadow_samples > 0) {
     m["shadow.samples"] = shadow_samples;
     m["shadow.false_shadow"] = static_cast<double>(false_shadow) / shadow_samples;

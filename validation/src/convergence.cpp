@@ -1,0 +1,86 @@
+#include "marchcheck/validation/convergence.hpp"
+
+#include "marchcheck/march/camera.hpp"
+#include "marchcheck/march/render.hpp"
+#include "marchcheck/validation/reference.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace marchcheck::validation {
+
+namespace {
+
+ConvergenceRow study_row(const sdf::Scene& scene, double parameter, int rays_x, int rays_y) {
+  const sdf::Tape tape = sdf::compile(scene.root, scene.time);
+  const Reference ref(scene.intended ? *scene.intended : scene.root, scene.time);
+  const march::Camera camera(scene.camera, scene.width, scene.height);
+  march::MarchContext ctx;
+  ctx.lipschitz = sdf::derive_info(scene.root, scene.time).lipschitz;
+  ctx.footprint_at_0 = camera.footprint_at_0();
+  ctx.footprint_slope = camera.footprint_slope();
+  const double max_dist = std::isfinite(scene.march.max_dist) ? scene.march.max_dist : 1e6;
+  std::vector<double> errors;
+  int decided = 0, rays = 0;
+  double evals = 0;
+  for (int j = 0; j < rays_y; ++j)
+    for (int i = 0; i < rays_x; ++i) {
+      const march::Ray ray = camera.ray((i + 0.5) * scene.width / rays_x, (j + 0.5) * scene.height / rays_y);
+      const double len = glm::length(ray.direction);
+      const auto rec = march::march<float>(march::TapeField{&tape}, glm::vec3(ray.origin), glm::vec3(ray.direction),
+                                           scene.march, ctx);
+      ++rays;
+      evals += rec.evals;
+      if (rec.decided()) ++decided;
+      if (rec.outcome != march::Outcome::hit) continue;
+      const ReferenceHit rh = ref.first_hit(ray.origin, ray.direction / len, max_dist);
+      if (rh.hit) errors.push_back(std::abs(static_cast<double>(rec.t) * len - rh.t));
+    }
+  std::sort(errors.begin(), errors.end());
+  const auto at = [&](double q) {
+    return errors.empty() ? 0.0 : errors[std::min(errors.size() - 1, static_cast<size_t>(q * static_cast<double>(errors.size() - 1) + 0.5))];
+  };
+  return {parameter, static_cast<double>(decided) / rays, at(0.99), errors.empty() ? 0 : errors.back(), evals / rays};
+}
+
+}  // namespace
+
+std::vector<ConvergenceRow> steps_study(const sdf::Scene& scene, const std::vector<int>& max_steps, int rays_x,
+                                        int rays_y) {
+  std::vector<ConvergenceRow> rows;
+  for (int n : max_steps) {
+    sdf::Scene s = scene;
+    s.march.max_steps = n;
+    rows.push_back(study_row(s, n, rays_x, rays_y));
+  }
+  return rows;
+}
+
+std::vector<ConvergenceRow> eps_study(const sdf::Scene& scene, const std::vector<double>& hit_eps, int rays_x,
+                                      int rays_y) {
+  std::vector<ConvergenceRow> rows;
+  for (double e : hit_eps) {
+    sdf::Scene s = scene;
+    s.march.hit_eps = e;
+    rows.push_back(study_row(s, e, rays_x, rays_y));
+  }
+  return rows;
+}
+
+std::vector<GrazingRow> grazing_study(const std::vector<double>& clearances) {
+  const sdf::Tape unit = sdf::compile(sdf::sphere(1));
+  std::vector<GrazingRow> rows;
+  for (double b : clearances) {
+    march::MarchSettings s;
+    s.max_steps = 1 << 24;
+    s.max_dist = 10;
+    s.hit_eps = b * 1e-3;
+    // From far enough that the approach is straight, to just past the sphere's far side.
+    const auto rec = march::march<double>(march::TapeField{&unit}, glm::dvec3(0, 1 + b, -5), glm::dvec3(0, 0, 1), s, {});
+    rows.push_back({b, rec.steps, std::numbers::pi * std::sqrt(2 / b)});
+  }
+  return rows;
+}
+
+}  // namespace marchcheck::validation
