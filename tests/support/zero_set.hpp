@@ -3,6 +3,7 @@
 #pragma once
 
 #include "marchcheck/sdf/tape.hpp"
+#include "marchcheck/validation/gtest_helpers.hpp"
 
 #include <glm/glm.hpp>
 
@@ -87,16 +88,7 @@ inline KindMeasurement measure_kind(const sdf::Tape& tape, const ZeroSet& zs, co
 // Largest |f(a) - f(b)| / |a - b| over random nearby pairs in [lo, hi] (finite differences, no derivatives).
 inline double measure_lipschitz(const std::function<double(glm::dvec3)>& f, glm::dvec3 lo, glm::dvec3 hi, int pairs,
                                 double step = 1e-4, unsigned seed = 11) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(0, 1);
-  std::normal_distribution<double> g;
-  double best = 0;
-  for (int i = 0; i < pairs; ++i) {
-    const glm::dvec3 a = lo + (hi - lo) * glm::dvec3(u(rng), u(rng), u(rng));
-    const glm::dvec3 dir = glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));
-    best = std::max(best, std::abs(f(a + dir * step) - f(a)) / step);
-  }
-  return best;
+  return validation::measured_slope(f, lo, hi, pairs, step, seed);
 }
 
 }  // namespace marchcheck::testing

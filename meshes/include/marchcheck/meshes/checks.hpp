@@ -1,0 +1,25 @@
+// Topology and orientation checks on plain index arrays (works on non-manifold meshes, unlike a half-edge kernel).
+#pragma once
+
+#include "marchcheck/meshes/mesh.hpp"
+
+namespace marchcheck::meshes {
+
+struct MeshReport {
+  bool closed = false;                 // no boundary edges (and at least one triangle)
+  bool manifold = false;               // no edge with more than two faces, no pinched vertex
+  int boundary_edges = 0;              // edges used by exactly one face
+  int nonmanifold_edges = 0;           // edges used by three or more faces
+  int nonmanifold_vertices = 0;        // vertices whose faces do not form one fan (pinched, or on such an edge)
+  int degenerate_faces = 0;            // repeated index, or area <= 1e-12 · (longest edge)² (zero up to rounding);
+                                       // faces with a repeated index take no part in the edge and fan counts
+  int duplicate_vertices = 0;          // vertices at exactly the position of an earlier vertex
+  bool consistently_oriented = false;  // faces sharing an edge run along it as often one way as the other
+  bool outward = false;                // closed, consistently oriented and signed_volume > 0
+  double signed_volume = 0;            // sum of signed tetrahedron volumes; meaningful for closed meshes
+};
+
+// Throws MeshError if a triangle indexes past the vertex array.
+MeshReport inspect(const Mesh& mesh);
+
+}  // namespace marchcheck::meshes

@@ -1,0 +1,194 @@
+#include "marchcheck/meshes/io.hpp"
+
+#include "openmesh_io.hpp"
+#include "preflight.hpp"
+
+#include <unistd.h>
+
+#include <bit>
+#include <cfloat>
+#include <climits>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <unordered_map>
+
+namespace marchcheck::meshes {
+namespace {
+
+namespace fs = std::filesystem;
+using detail::Format;
+
+[[noreturn]] void fail(const std::string& path, const std::string& problem) {
+  throw MeshError(path + ": " + problem);
+}
+
+std::optional<Format> format_of(const fs::path& path) {
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".obj") return Format::obj;
+  if (ext == ".off") return Format::off;
+  if (ext == ".ply") return Format::ply;
+  if (ext == ".stl") return Format::stl;
+  return std::nullopt;
+}
+
+Format format_or_fail(const std::string& path) {
+  const auto format = format_of(path);
+  if (!format) {
+    const std::string ext = fs::path(path).extension().string();
+    fail(path, (ext.empty() ? std::string("no file extension") : "unknown extension '" + ext + "'") +
+                   " (expected .obj, .off, .ply or .stl)");
+  }
+  return *format;
+}
+
+const char* name_of(Format format) {
+  switch (format) {
+    case Format::obj: return "OBJ";
+    case Format::off: return "OFF";
+    case Format::ply: return "PLY";
+    case Format::stl: return "STL";
+  }
+  return "";
+}
+
+std::string read_all(const std::string& path) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (!fs::exists(status)) fail(path, "no such file");
+  if (!fs::is_regular_file(status)) fail(path, "not a regular file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open it for reading");
+  std::ostringstream content;
+  content << in.rdbuf();
+  if (in.bad()) fail(path, "cannot read it");
+  return std::move(content).str();
+}
+
+// STL repeats each corner per facet; identical positions (-0 and +0 alike) become one vertex.
+void merge_identical_vertices(Mesh& mesh) {
+  struct Key {
+    std::uint64_t x, y, z;
+    bool operator==(const Key&) const = default;
+  };
+  struct Hash {
+    std::size_t operator()(const Key& k) const {
+      return std::hash<std::uint64_t>()(k.x ^ (k.y * 0x9E3779B97F4A7C15ull) ^ (k.z * 0xC2B2AE3D27D4EB4Full));
+    }
+  };
+  const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v == 0 ? 0.0 : v); };
+  std::unordered_map<Key, std::uint32_t, Hash> first;
+  std::vector<std::uint32_t> remap(mesh.vertices.size());
+  std::vector<glm::dvec3> merged;
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const glm::dvec3 p = mesh.vertices[i];
+    const auto [it, inserted] = first.try_emplace(Key{bits(p.x), bits(p.y), bits(p.z)},
+                                                  static_cast<std::uint32_t>(merged.size()));
+    if (inserted) merged.push_back(p);
+    remap[i] = it->second;
+  }
+  for (auto& triangle : mesh.triangles)
+    for (auto& index : triangle) index = remap[index];
+  mesh.vertices = std::move(merged);
+}
+
+Mesh to_triangles(const std::string& path, const detail::Polygons& polygons) {
+  Mesh mesh;
+  if (polygons.vertices.size() > INT_MAX) fail(path, "too many vertices");
+  mesh.vertices = polygons.vertices;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const glm::dvec3 p = mesh.vertices[v];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      fail(path, "vertex " + std::to_string(v) + " has a NaN or infinite coordinate");
+  }
+  const std::size_t n_faces = polygons.offsets.size() - 1;
+  for (std::size_t f = 0; f < n_faces; ++f) {
+    const std::size_t begin = polygons.offsets[f], end = polygons.offsets[f + 1];
+    const std::string face = "face " + std::to_string(f) + " of " + std::to_string(n_faces);
+    if (end - begin < 3) fail(path, face + " has " + std::to_string(end - begin) + " vertices (at least 3 needed)");
+    for (std::size_t k = begin; k < end; ++k) {
+      const int index = polygons.indices[k];
+      if (index < 0 || static_cast<std::size_t>(index) >= mesh.vertices.size())
+        fail(path, face + " refers to a vertex that does not exist (index " + std::to_string(index) +
+                       " counting from 0; the file has " + std::to_string(mesh.vertices.size()) + " vertices)");
+    }
+    const auto at = [&](std::size_t k) { return static_cast<std::uint32_t>(polygons.indices[k]); };
+    for (std::size_t k = begin + 1; k + 1 < end; ++k) mesh.triangles.push_back({at(begin), at(k), at(k + 1)});
+  }
+  if (mesh.triangles.empty()) fail(path, "no triangles in the file");
+  return mesh;
+}
+
+void check_writable(const std::string& path, const Mesh& mesh) {
+  if (mesh.triangles.empty()) fail(path, "cannot save a mesh without triangles");
+  if (mesh.vertices.size() > INT_MAX || mesh.triangles.size() > INT_MAX) fail(path, "mesh too large to save");
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+    for (int k = 0; k < 3; ++k)
+      if (!(std::fabs(mesh.vertices[v][k]) <= FLT_MAX))
+        fail(path, "cannot save vertex " + std::to_string(v) +
+                       ": a coordinate is NaN, infinite or beyond the float range the formats store");
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (const std::uint32_t index : mesh.triangles[t])
+      if (index >= mesh.vertices.size())
+        fail(path, "cannot save triangle " + std::to_string(t) + ": vertex " + std::to_string(index) +
+                       " does not exist (" + std::to_string(mesh.vertices.size()) + " vertices)");
+}
+
+}  // namespace
+
+Mesh load_mesh(const std::string& path) {
+  const Format format = format_or_fail(path);
+  const std::string content = read_all(path);
+  if (content.empty()) fail(path, "the file is empty");
+  const detail::Expected expected = detail::preflight(format, path, content);
+
+  detail::Polygons polygons;
+  std::string reason;
+  if (!detail::openmesh_read(path, polygons, reason))
+    fail(path, reason.empty() ? std::string("OpenMesh cannot read it as ") + name_of(format) +
+                                    " (malformed or truncated)"
+                              : reason);
+  // OpenMesh skips what it cannot parse; a count that differs from the file's own means something was lost.
+  const std::size_t n_faces = polygons.offsets.size() - 1;
+  if (expected.vertices && polygons.vertices.size() != *expected.vertices)
+    fail(path, "OpenMesh read " + std::to_string(polygons.vertices.size()) + " of the file's " +
+                   std::to_string(*expected.vertices) + " vertices");
+  if (expected.faces && n_faces != *expected.faces)
+    fail(path, "OpenMesh read " + std::to_string(n_faces) + " of the file's " + std::to_string(*expected.faces) +
+                   " faces");
+
+  Mesh mesh = to_triangles(path, polygons);
+  if (format == Format::stl) merge_identical_vertices(mesh);
+  return mesh;
+}
+
+void save_mesh(const Mesh& mesh, const std::string& path) {
+  const Format format = format_or_fail(path);
+  check_writable(path, mesh);
+  const fs::path target(path);
+  const fs::path temporary = target.parent_path() / ("." + target.stem().string() + ".tmp-" +
+                                                     std::to_string(::getpid()) + target.extension().string());
+  std::error_code ec;
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out) fail(path, "cannot create " + temporary.string() + " (missing folder or no permission?)");
+    std::string reason;
+    const bool written = detail::openmesh_write(mesh, format, out, reason);
+    out.close();
+    if (!written || out.fail()) {
+      fs::remove(temporary, ec);
+      fail(path, reason.empty() ? "cannot write " + temporary.string() + " (disk full?)" : reason);
+    }
+  }
+  fs::rename(temporary, target, ec);
+  if (ec) {
+    const std::string message = ec.message();
+    fs::remove(temporary, ec);
+    fail(path, "cannot replace it with " + temporary.string() + ": " + message);
+  }
+}
+
+}  // namespace marchcheck::meshes

@@ -1,0 +1,67 @@
+// Independent geometry for the mesh tests: brute-force distances and face sampling (no code shared with meshes/).
+#pragma once
+
+#include "marchcheck/meshes/mesh.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <vector>
+
+namespace marchcheck::meshes::test {
+
+using glm::dvec3;
+
+inline double segment_distance(dvec3 p, dvec3 a, dvec3 b) {
+  const dvec3 ab = b - a;
+  const double len2 = glm::dot(ab, ab);
+  const double s = len2 > 0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+  return glm::length(p - (a + s * ab));
+}
+
+// Inside the prism over the triangle: the distance to its plane; outside: the nearest edge.
+inline double triangle_distance(dvec3 p, dvec3 a, dvec3 b, dvec3 c) {
+  const dvec3 n = glm::cross(b - a, c - a);
+  const double n2 = glm::dot(n, n);
+  if (n2 > 0) {
+    const bool inside = glm::dot(glm::cross(b - a, p - a), n) >= 0 && glm::dot(glm::cross(c - b, p - b), n) >= 0 &&
+                        glm::dot(glm::cross(a - c, p - c), n) >= 0;
+    if (inside) return std::fabs(glm::dot(p - a, n)) / std::sqrt(n2);
+  }
+  return std::min({segment_distance(p, a, b), segment_distance(p, b, c), segment_distance(p, c, a)});
+}
+
+inline double mesh_distance(const Mesh& mesh, dvec3 p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& t : mesh.triangles)
+    best = std::min(best, triangle_distance(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]));
+  return best;
+}
+
+// Barycentric grid with n steps per edge: corners, edge points and interior points of every face.
+inline void for_each_face_sample(const Mesh& mesh, int n, const std::function<void(dvec3)>& visit) {
+  for (const auto& t : mesh.triangles) {
+    const dvec3 a = mesh.vertices[t[0]], b = mesh.vertices[t[1]], c = mesh.vertices[t[2]];
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        const double u = double(i) / n, v = double(j) / n;
+        visit(a + u * (b - a) + v * (c - a));
+      }
+  }
+}
+
+// Unsigned distances to the analytic surfaces, written from their definitions.
+inline double sphere_distance(dvec3 p, double radius) { return std::fabs(glm::length(p) - radius); }
+inline double torus_distance(dvec3 p, double major, double minor) {
+  return std::fabs(std::hypot(std::hypot(p.x, p.z) - major, p.y) - minor);
+}
+inline double box_distance(dvec3 p, dvec3 half) {
+  const dvec3 q = glm::abs(p) - half;
+  const double outside = glm::length(glm::max(q, dvec3(0)));
+  return std::fabs(outside + std::min(std::max(q.x, std::max(q.y, q.z)), 0.0));
+}
+
+}  // namespace marchcheck::meshes::test

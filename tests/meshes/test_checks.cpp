@@ -1,0 +1,175 @@
+// inspect(): a clean mesh passes, and each broken variant trips exactly the check meant for it.
+#include "marchcheck/meshes/checks.hpp"
+#include "marchcheck/meshes/procedural.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+
+namespace marchcheck::meshes {
+namespace {
+
+using glm::dvec3;
+using Triangle = std::array<std::uint32_t, 3>;
+
+Mesh sphere() { return icosphere(1, 2).mesh; }
+
+void expect_clean(const MeshReport& r) {
+  EXPECT_TRUE(r.closed);
+  EXPECT_TRUE(r.manifold);
+  EXPECT_TRUE(r.consistently_oriented);
+  EXPECT_TRUE(r.outward);
+  EXPECT_EQ(r.boundary_edges, 0);
+  EXPECT_EQ(r.nonmanifold_edges, 0);
+  EXPECT_EQ(r.nonmanifold_vertices, 0);
+  EXPECT_EQ(r.degenerate_faces, 0);
+  EXPECT_EQ(r.duplicate_vertices, 0);
+}
+
+TEST(Inspect, CleanMeshPasses) {
+  const MeshReport r = inspect(sphere());
+  expect_clean(r);
+  EXPECT_GT(r.signed_volume, 3.5);
+  EXPECT_LT(r.signed_volume, 4.0 / 3 * 3.14159266);
+}
+
+TEST(Inspect, RemovedTriangleLeavesThreeBoundaryEdges) {
+  Mesh m = sphere();
+  m.triangles.erase(m.triangles.begin() + 7);
+  const MeshReport r = inspect(m);
+  EXPECT_FALSE(r.closed);
+  EXPECT_EQ(r.boundary_edges, 3);
+  EXPECT_TRUE(r.manifold);
+  EXPECT_TRUE(r.consistently_oriented);
+  EXPECT_FALSE(r.outward);  // an open mesh has no inside
+}
+
+TEST(Inspect, FlippedTriangleIsInconsistent) {
+  Mesh m = sphere();
+  std::swap(m.triangles[3][1], m.triangles[3][2]);
+  const MeshReport r = inspect(m);
+  EXPECT_TRUE(r.closed);
+  EXPECT_TRUE(r.manifold);
+  EXPECT_FALSE(r.consistently_oriented);
+  EXPECT_FALSE(r.outward);
+}
+
+TEST(Inspect, InsideOutMeshIsNotOutward) {
+  Mesh m = sphere();
+  for (Triangle& t : m.triangles) std::swap(t[1], t[2]);
+  const MeshReport r = inspect(m);
+  EXPECT_TRUE(r.closed);
+  EXPECT_TRUE(r.consistently_oriented);
+  EXPECT_LT(r.signed_volume, 0);
+  EXPECT_FALSE(r.outward);
+}
+
+// A vertex at the midpoint of edge ab splits both faces beside it; the zero-area sliver (m, a, b) keeps the
+// mesh closed and consistently oriented.
+TEST(Inspect, ZeroAreaSliverIsDegenerate) {
+  Mesh m = sphere();
+  const Triangle abc = m.triangles[0];
+  const std::uint32_t a = abc[0], b = abc[1], c = abc[2];
+  const std::uint32_t mid = static_cast<std::uint32_t>(m.vertices.size());
+  m.vertices.push_back((m.vertices[a] + m.vertices[b]) / 2.0);
+  m.triangles[0] = {a, mid, c};
+  m.triangles.push_back({mid, b, c});
+  m.triangles.push_back({mid, a, b});
+  const MeshReport r = inspect(m);
+  EXPECT_EQ(r.degenerate_faces, 1);
+  EXPECT_TRUE(r.closed);
+  EXPECT_TRUE(r.consistently_oriented);
+  EXPECT_TRUE(r.manifold);
+}
+
+TEST(Inspect, RepeatedIndexIsDegenerate) {
+  Mesh m = sphere();
+  m.triangles.push_back({0, 0, 1});
+  EXPECT_EQ(inspect(m).degenerate_faces, 1);
+  m = sphere();
+  m.vertices.push_back(m.vertices[0]);  // same position, different index: zero area all the same
+  m.triangles.push_back({0, static_cast<std::uint32_t>(m.vertices.size() - 1), 1});
+  EXPECT_EQ(inspect(m).degenerate_faces, 1);
+}
+
+TEST(Inspect, ThinButRealTriangleIsNotDegenerate) {
+  const Mesh m{{{0, 0, 0}, {1, 0, 0}, {2, 1e-7, 0}}, {{0, 1, 2}}};
+  EXPECT_EQ(inspect(m).degenerate_faces, 0);
+}
+
+TEST(Inspect, ThreeFacesOnAnEdgeAreNonManifold) {
+  Mesh m = sphere();
+  const Triangle t = m.triangles[0];
+  m.vertices.push_back(dvec3(2, 2, 2));
+  m.triangles.push_back({t[0], t[1], static_cast<std::uint32_t>(m.vertices.size() - 1)});
+  const MeshReport r = inspect(m);
+  EXPECT_EQ(r.nonmanifold_edges, 1);
+  EXPECT_FALSE(r.manifold);
+  EXPECT_EQ(r.boundary_edges, 2);
+  EXPECT_FALSE(r.closed);
+  EXPECT_FALSE(r.consistently_oriented);  // three faces cannot pair up their directions
+}
+
+TEST(Inspect, TwoClosedPiecesTouchingAtAVertexArePinched) {
+  const Mesh single = box({1, 1, 1}).mesh;
+  Mesh m = single;
+  // A second box sharing vertex 7 (+1, +1, +1) of the first: box corner 0 of the copy moves onto it.
+  const std::uint32_t offset = static_cast<std::uint32_t>(m.vertices.size());
+  for (const dvec3& v : single.vertices) m.vertices.push_back(v + dvec3(2, 2, 2));
+  for (Triangle t : single.triangles) {
+    for (auto& i : t) i = i == 0 ? 7 : i + offset;
+    m.triangles.push_back(t);
+  }
+  const MeshReport r = inspect(m);
+  EXPECT_TRUE(r.closed);
+  EXPECT_EQ(r.nonmanifold_edges, 0);
+  EXPECT_EQ(r.nonmanifold_vertices, 1);
+  EXPECT_FALSE(r.manifold);
+  EXPECT_TRUE(r.consistently_oriented);
+  EXPECT_DOUBLE_EQ(r.signed_volume, 16);
+}
+
+TEST(Inspect, DuplicateVerticesAreCounted) {
+  Mesh m = sphere();
+  m.vertices.push_back(m.vertices[3]);
+  m.vertices.push_back(m.vertices[3]);
+  m.vertices.push_back(-m.vertices[3] * 0.0);  // -0 and +0 count as the same position
+  m.vertices.push_back(dvec3(0));
+  EXPECT_EQ(inspect(m).duplicate_vertices, 3);
+
+  // A triangle soup (as STL stores it) is all duplicates and all boundary.
+  const Mesh shared = box({1, 1, 1}).mesh;
+  Mesh soup;
+  for (const Triangle& t : shared.triangles) {
+    const auto base = static_cast<std::uint32_t>(soup.vertices.size());
+    for (const auto i : t) soup.vertices.push_back(shared.vertices[i]);
+    soup.triangles.push_back({base, base + 1, base + 2});
+  }
+  const MeshReport r = inspect(soup);
+  EXPECT_EQ(r.duplicate_vertices, 36 - 8);
+  EXPECT_EQ(r.boundary_edges, 36);
+  EXPECT_FALSE(r.closed);
+}
+
+TEST(Inspect, VolumeFarFromTheOrigin) {
+  Mesh m = box({1, 2, 3}).mesh;
+  for (dvec3& v : m.vertices) v += dvec3(1e6, -2e6, 3e6);
+  EXPECT_NEAR(inspect(m).signed_volume, 48, 1e-6);
+}
+
+TEST(Inspect, EmptyMeshIsNotClosed) {
+  const MeshReport r = inspect(Mesh{});
+  EXPECT_FALSE(r.closed);
+  EXPECT_FALSE(r.outward);
+  EXPECT_EQ(r.signed_volume, 0);
+}
+
+TEST(Inspect, IndexPastTheVerticesThrows) {
+  Mesh m = sphere();
+  m.triangles.push_back({0, 1, static_cast<std::uint32_t>(m.vertices.size())});
+  EXPECT_THROW(inspect(m), MeshError);
+}
+
+}  // namespace
+}  // namespace marchcheck::meshes

@@ -1,0 +1,38 @@
+// Triangle-mesh references with CGAL: exact closest points and distances (AABB tree, exact predicates), sign by
+// Side_of_triangle_mesh for closed meshes, first ray hits with their face normals, shadow visibility.
+#pragma once
+
+#include "marchcheck/meshes/mesh.hpp"
+#include "marchcheck/validation/reference.hpp"
+
+#include <glm/glm.hpp>
+
+#include <memory>
+#include <optional>
+
+namespace marchcheck::validation {
+
+class MeshReference {
+ public:
+  explicit MeshReference(const meshes::Mesh& mesh);
+  ~MeshReference();
+  MeshReference(const MeshReference&) = delete;
+  MeshReference& operator=(const MeshReference&) = delete;
+
+  // Closed meshes have an inside: only they give signed distances.
+  bool closed() const;
+  double unsigned_distance(glm::dvec3 p) const;
+  glm::dvec3 closest_point(glm::dvec3 p) const;
+  // Negative inside; nullopt for an open or non-manifold mesh (unsigned distance only).
+  std::optional<double> signed_distance(glm::dvec3 p) const;
+  // The first face along origin + t direction (unit) within t_max, with its outward face normal.
+  ReferenceHit first_hit(glm::dvec3 origin, glm::dvec3 direction, double t_max) const;
+  // Whether the open segment a-b crosses no face (shadow visibility from a to a light at b).
+  bool visible(glm::dvec3 a, glm::dvec3 b) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace marchcheck::validation
