@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <iostream>
+#include <unistd.h>
 
 int main(int argc, char** argv) {
   using namespace marchcheck::reports;
@@ -36,6 +37,34 @@ int main(int argc, char** argv) {
   auto* all_cmd = app.add_subcommand("render-all", "Render every built-in scene into a folder");
   all_cmd->add_option("-o,--output", all_dir, "Folder for the images");
 
+  SweepCommand sweep;
+  auto* sweep_cmd = app.add_subcommand("sweep", "Accuracy and cost of every combination of parameters, and the Pareto front");
+  sweep_cmd->add_option("scene", sweep.scene, "Built-in scene name or scene file (.json)")->required();
+  sweep_cmd->add_option("--vary", sweep.vary, "KEY=V1,V2,... (repeatable; every combination is run)")->required();
+  sweep_cmd->add_option("--target", sweep.targets, "METRIC=VALUE: name the cheapest combination with METRIC <= VALUE (repeatable)");
+  sweep_cmd->add_option("--error", sweep.error_metric, "The error metric of the Pareto front")->capture_default_str();
+  sweep_cmd->add_option("--repeat", sweep.repeat, "Timed renders per combination (seconds = their median)")->capture_default_str();
+  sweep_cmd->add_option("--width", sweep.render_width, "Width of the timed render")->capture_default_str();
+  sweep_cmd->add_option("--json", sweep.json, "Write every combination's metrics as JSON");
+  sweep_cmd->add_option("--csv", sweep.csv, "Write every combination's metrics as CSV");
+  sweep_cmd->add_option("--set", sweep.sets, "Override a scene or marching parameter KEY=VALUE (repeatable)");
+
+  CompareCommand compare;
+  auto* compare_cmd = app.add_subcommand("compare", "Compare two validate/sweep result files; exit 1 on a regression");
+  compare_cmd->add_option("baseline", compare.baseline, "Baseline result file (JSON)")->required();
+  compare_cmd->add_option("current", compare.current, "Current result file (JSON)")->required();
+  compare_cmd->add_option("--tolerance", compare.tolerances,
+                          "METRIC=REL relative tolerance (METRIC may end in *; default 1e-6; seconds are only "
+                          "compared when a tolerance names them)");
+
+  ReportCommand report;
+  auto* report_cmd = app.add_subcommand("report", "The accuracy report: validate every built-in scene, run the "
+                                                  "standard sweeps, write an HTML report");
+  report_cmd->add_option("-o,--output", report.dir, "Report folder (replaced as a whole)")->capture_default_str();
+  report_cmd->add_option("scenes", report.scenes, "Scenes to report on (default: every built-in)");
+  report_cmd->add_flag("--quick", report.quick, "Fewer sweep points and smaller images");
+  report_cmd->add_option("--set", report.sets, "Override a scene or marching parameter KEY=VALUE (repeatable)");
+
   const auto subcommands = app.get_subcommands({});
   const bool known = argc > 1 && std::any_of(subcommands.begin(), subcommands.end(),
                                              [&](const CLI::App* sub) { return sub->get_name() == argv[1]; });
@@ -56,5 +85,14 @@ int main(int argc, char** argv) {
   if (*scenes_cmd) return run_scenes(scenes, std::cout, std::cerr);
   if (*render_cmd) return run_render(render, std::cout, std::cerr);
   if (*validate_cmd) return run_validate(validate, std::cout, std::cerr);
+  if (*sweep_cmd) {
+    sweep.progress = ::isatty(STDERR_FILENO) != 0;
+    return run_sweep(sweep, std::cout, std::cerr);
+  }
+  if (*compare_cmd) return run_compare(compare, std::cout, std::cerr);
+  if (*report_cmd) {
+    report.progress = ::isatty(STDERR_FILENO) != 0;
+    return run_report(report, std::cout, std::cerr);
+  }
   return run_render_all(all_dir, std::cout, std::cerr);
 }

@@ -6,7 +6,7 @@ packages=(
   libglm-dev libcgal-dev libopenmesh-dev libgtest-dev libgmock-dev libbenchmark-dev
   libopenimageio-dev libtbb-dev libembree-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev
-  python3 python3-matplotlib
+  python3 python3-matplotlib chromium
 )
 missing=()
 for p in "${packages[@]}"; do

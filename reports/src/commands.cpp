@@ -1,30 +1,40 @@
 #include "marchcheck/reports/commands.hpp"
 
 #include "marchcheck/march/render.hpp"
+#include "marchcheck/reports/compare.hpp"
 #include "marchcheck/reports/results_io.hpp"
+#include "command_support.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/validation/validate.hpp"
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <filesystem>
 #include <iomanip>
 
 namespace marchcheck::reports {
 
-namespace {
-
-constexpr int kBadInput = 2;
-
 void apply_sets(sdf::Scene& scene, const std::vector<std::string>& sets) {
   for (const auto& kv : sets) {
     const auto eq = kv.find('=');
     if (eq == std::string::npos || eq == 0) throw sdf::SceneError("--set " + kv + ": expected KEY=VALUE");
-    sdf::apply_setting(scene, kv.substr(0, eq), kv.substr(eq + 1));
+    try {
+      sdf::apply_setting(scene, kv.substr(0, eq), kv.substr(eq + 1));
+    } catch (const sdf::SceneError& e) {
+      throw sdf::SceneError(std::string("--set ") + e.what());
+    }
   }
 }
+
+namespace {
+
+constexpr int kBadInput = 2;
 
 void apply_size(sdf::Scene& scene, const std::string& size) {
   int w = 0, h = 0;
@@ -34,6 +44,17 @@ void apply_size(sdf::Scene& scene, const std::string& size) {
     throw sdf::SceneError("--size " + size + ": expected WIDTHxHEIGHT, each 1..16384");
   scene.width = w;
   scene.height = h;
+}
+
+void print_checks(const validation::SceneResult& r, std::ostream& out) {
+  out << r.scene << (r.defects.empty() ? "" : "  (reproduces a seed defect)") << ": " << (r.pass() ? "PASS" : "FAIL")
+      << "\n";
+  out << "  " << std::left << std::setw(30) << "check" << std::right << std::setw(13) << "value" << std::setw(13)
+      << "limit" << "  result  limit from\n";
+  for (const auto& c : r.checks)
+    out << "  " << std::left << std::setw(30) << c.name << std::right << std::setw(13) << std::setprecision(4)
+        << std::defaultfloat << c.value << std::setw(13) << c.limit << "  " << (c.pass ? "pass  " : "FAIL  ") << "  "
+        << c.limit_source << "\n";
 }
 
 }  // namespace
@@ -125,36 +146,20 @@ int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& er
     err << "marchcheck validate: " << e.what() << "\n";
     return kBadInput;
   }
-  nlohmann::ordered_json results = nlohmann::ordered_json::array();
-  bool all_pass = true;
+  std::vector<validation::SceneResult> results;
   for (const auto& scene : scenes) {
-    const auto r = validation::validate_scene(scene);
-    all_pass = all_pass && r.pass();
-    out << scene.name << (scene.defects.empty() ? "" : "  (reproduces a seed defect)") << ": "
-        << (r.pass() ? "PASS" : "FAIL") << "\n";
-    out << "  " << std::left << std::setw(30) << "check" << std::right << std::setw(13) << "value" << std::setw(13)
-        << "limit" << "  result  limit from\n";
-    nlohmann::ordered_json checks = nlohmann::ordered_json::array();
-    for (const auto& c : r.checks) {
-      out << "  " << std::left << std::setw(30) << c.name << std::right << std::setw(13) << std::setprecision(4)
-          << std::defaultfloat << c.value << std::setw(13) << c.limit << "  " << (c.pass ? "pass  " : "FAIL  ") << "  "
-          << c.limit_source << "\n";
-      checks.push_back({{"name", c.name}, {"value", c.value}, {"limit", c.limit}, {"pass", c.pass},
-                        {"limit_source", c.limit_source}, {"why", c.why}});
-    }
-    nlohmann::ordered_json metrics = nlohmann::ordered_json::object();
-    for (const auto& [k, v] : r.metrics) metrics[k] = std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr;
-    results.push_back({{"scene", scene.name}, {"defects", scene.defects}, {"pass", r.pass()}, {"checks", checks},
-                       {"metrics", metrics}});
+    results.push_back(validation::validate_scene(scene));
+    print_checks(results.back(), out);
   }
   if (cmd.json) {
     try {
-      write_text_atomically(*cmd.json, nlohmann::ordered_json{{"kind", "validate"}, {"results", results}}.dump(2) + "\n");
+      write_text_atomically(*cmd.json, validate_json(results));
     } catch (const std::exception& e) {
       err << "marchcheck validate: " << e.what() << "\n";
       return kBadInput;
     }
   }
+  const bool all_pass = std::all_of(results.begin(), results.end(), [](const auto& r) { return r.pass(); });
   return all_pass ? 0 : 1;
 }
 
@@ -174,6 +179,129 @@ int run_render_all(const std::string& dir, std::ostream& out, std::ostream& err)
     if (const int status = run_render(cmd, out, err); status != 0) return status;
   }
   return 0;
+}
+
+namespace {
+
+std::string format_value(double v) {
+  std::ostringstream text;
+  text << std::setprecision(4) << v;
+  return text.str();
+}
+
+std::string metric_text(const validation::SweepPoint& p, const std::string& name) {
+  const auto it = p.metrics.find(name);
+  return it == p.metrics.end() ? "-" : format_value(it->second);
+}
+
+void draw_progress(std::ostream& err, size_t done, size_t total) {
+  constexpr int kWidth = 30;
+  const int filled = static_cast<int>(kWidth * done / std::max<size_t>(total, 1));
+  err << "\r[" << std::string(static_cast<size_t>(filled), '#') << std::string(static_cast<size_t>(kWidth - filled), ' ')
+      << "] " << done << "/" << total << (done == total ? "\n" : "") << std::flush;
+}
+
+}  // namespace
+
+int run_sweep(const SweepCommand& cmd, std::ostream& out, std::ostream& err) {
+  sdf::Scene scene;
+  std::vector<validation::SweepAxis> axes;
+  validation::SweepOptions options;
+  try {
+    scene = sdf::resolve_scene(cmd.scene);
+    apply_sets(scene, cmd.sets);
+    sdf::compile(scene.root, scene.time);
+    for (const auto& v : cmd.vary) axes.push_back(validation::parse_sweep_axis(v));
+    for (const auto& t : cmd.targets) options.targets.push_back(validation::parse_sweep_target(t));
+    if (cmd.repeat < 1) throw sdf::SceneError("--repeat " + std::to_string(cmd.repeat) + ": expected at least 1");
+    if (cmd.render_width < 1) throw sdf::SceneError("--width " + std::to_string(cmd.render_width) + ": expected at least 1");
+  } catch (const std::exception& e) {
+    err << "marchcheck sweep: " << e.what() << "\n";
+    return kBadInput;
+  }
+  options.error_metric = cmd.error_metric;
+  options.repeat = cmd.repeat;
+  options.render_width = cmd.render_width;
+  if (cmd.progress) options.progress = [&err](size_t done, size_t total) { draw_progress(err, done, total); };
+  validation::SweepResult result;
+  try {
+    result = validation::sweep(scene, axes, options);
+  } catch (const sdf::SceneError& e) {
+    err << "marchcheck sweep: " << e.what() << "\n";
+    return kBadInput;
+  }
+  const auto known = [&](const std::string& metric) {
+    return std::any_of(result.points.begin(), result.points.end(), [&](const auto& p) { return p.metrics.count(metric) > 0; });
+  };
+  for (const auto& t : options.targets)
+    if (!known(t.metric)) {
+      err << "marchcheck sweep: --target " << t.metric << ": no combination has this metric\n";
+      return kBadInput;
+    }
+  if (!known(options.error_metric)) {
+    err << "marchcheck sweep: --error " << options.error_metric << ": no combination has this metric\n";
+    return kBadInput;
+  }
+
+  std::vector<std::string> columns = {options.error_metric};
+  for (const char* c : {"hit.undecided", "hit.t_err_p99", "normal.angle_p99_deg", "cost.evals_per_pixel", "cost.seconds"})
+    if (c != options.error_metric) columns.push_back(c);
+  out << scene.name << ": " << result.points.size() << " combinations (front: E = Pareto front of "
+      << options.error_metric << " against evaluations, S = against seconds; seconds = median of " << options.repeat
+      << " renders at width " << std::min(options.render_width, scene.width) << ")\n";
+  for (const auto& a : axes) out << std::left << std::setw(12) << a.key << " ";
+  for (const auto& c : columns) out << std::right << std::setw(std::max<int>(12, static_cast<int>(c.size()) + 1)) << c;
+  out << "  front  checks\n";
+  for (size_t i = 0; i < result.points.size(); ++i) {
+    const auto& p = result.points[i];
+    for (const auto& [k, v] : p.settings) out << std::left << std::setw(12) << v << " ";
+    for (const auto& c : columns)
+      out << std::right << std::setw(std::max<int>(12, static_cast<int>(c.size()) + 1)) << metric_text(p, c);
+    out << "  " << (p.pareto_evals ? "E" : " ") << (p.pareto_seconds ? "S" : " ") << "     "
+        << (p.pass ? "pass" : "FAIL") << (result.cheapest_meeting == i ? "  <- cheapest meeting the target" : "") << "\n";
+  }
+  if (!options.targets.empty() && !result.cheapest_meeting) out << "no combination meets the target\n";
+  try {
+    if (cmd.json) write_text_atomically(*cmd.json, sweep_json(result));
+    if (cmd.csv) write_text_atomically(*cmd.csv, sweep_csv(result));
+  } catch (const std::exception& e) {
+    err << "marchcheck sweep: " << e.what() << "\n";
+    return kBadInput;
+  }
+  return 0;
+}
+
+int run_compare(const CompareCommand& cmd, std::ostream& out, std::ostream& err) {
+  const auto load = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw ResultFileError(path + ": cannot open the file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return flatten_results(text.str(), path);
+  };
+  Comparison comparison;
+  try {
+    std::vector<Tolerance> tolerances;
+    for (const auto& t : cmd.tolerances) tolerances.push_back(parse_tolerance(t));
+    comparison = compare_results(load(cmd.baseline), load(cmd.current), tolerances);
+  } catch (const std::exception& e) {
+    err << "marchcheck compare: " << e.what() << "\n";
+    return kBadInput;
+  }
+  const auto value_text = [](const std::optional<double>& v) { return v ? format_value(*v) : std::string("-"); };
+  for (const auto& c : comparison.changes) {
+    if (c.verdict == Verdict::same) continue;
+    out << std::left << std::setw(26) << to_string(c.verdict) << c.key << ": " << value_text(c.baseline) << " -> "
+        << value_text(c.current);
+    if (c.verdict == Verdict::regression || c.verdict == Verdict::worse_within_tolerance)
+      out << " (tolerance " << c.tolerance << " relative)";
+    out << "\n";
+  }
+  out << comparison.changes.size() << " values: " << comparison.count(Verdict::same) << " same, "
+      << comparison.count(Verdict::better) << " better, " << comparison.count(Verdict::worse_within_tolerance)
+      << " worse within tolerance, " << comparison.count(Verdict::regression) << " regressions, "
+      << comparison.count(Verdict::missing) << " missing, " << comparison.count(Verdict::added) << " new\n";
+  return comparison.regression() ? 1 : 0;
 }
 
 }  // namespace marchcheck::reports

@@ -482,6 +482,18 @@ std::vector<std::string> declared_effects(const Scene& scene) {
   return out;
 }
 
+Scene scaled_to_width(const Scene& scene, int width) {
+  Scene small = scene;
+  const double k = static_cast<double>(width) / scene.width;
+  small.width = std::max(1, width);
+  small.height = std::max(1, static_cast<int>(scene.height * k));
+  small.camera.fx *= k;
+  small.camera.fy *= k;
+  if (small.camera.cx >= 0) small.camera.cx *= k;
+  if (small.camera.cy >= 0) small.camera.cy *= k;
+  return small;
+}
+
 int find_material(const Scene& scene, std::string_view name) {
   for (size_t i = 0; i < scene.materials.size(); ++i)
     if (scene.materials[i].name == name) return static_cast<int>(i);
@@ -493,9 +505,9 @@ void apply_setting(Scene& scene, std::string_view key, std::string_view value) {
   if (!s) {
     std::string names;
     for (const auto& k : settings()) names += std::string(names.empty() ? "" : ", ") + k.key;
-    throw SceneError("--set " + std::string(key) + ": unknown key; expected one of " + names);
+    throw SceneError(std::string(key) + ": unknown key; expected one of " + names);
   }
-  s->set(scene, parse_setting_value(value), "--set " + std::string(key) + "=" + std::string(value));
+  s->set(scene, parse_setting_value(value), std::string(key) + "=" + std::string(value));
 }
 
 std::vector<std::string> setting_keys() {

@@ -1,4 +1,6 @@
 // The command line as a user meets it: exit statuses, messages, files.
+#include "command_run.hpp"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -8,21 +10,6 @@
 #include <sys/wait.h>
 
 namespace {
-
-struct CommandRun {
-  int status;
-  std::string output;  // stdout and stderr together
-};
-
-CommandRun run(const std::string& args) {
-  const std::string cmd = std::string(MARCHCHECK_BINARY) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
 
 class Cli : public ::testing::Test {
  protected:
@@ -105,6 +92,43 @@ TEST_F(Cli, BadInputExitsTwoWithAMessageAndWritesNothing) {
   EXPECT_FALSE(std::filesystem::exists(path("x.png")));
   for (const auto& entry : std::filesystem::directory_iterator(dir_))
     EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
+}
+
+TEST_F(Cli, SweepWritesEveryCombinationAndRejectsBadAxes) {
+  const CommandRun r = run("sweep crum-torus --vary max_steps=4,64 --vary marcher=sphere,relaxed --repeat 1 --width 32 "
+                           "--target hit.undecided=0.01 --json " + path("s.json") + " --csv " + path("s.csv"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("cheapest meeting the target"), std::string::npos) << r.output;
+  std::ifstream csv(path("s.csv"));
+  std::string line;
+  int rows = 0;
+  while (std::getline(csv, line)) ++rows;
+  EXPECT_EQ(rows, 5);  // header + 2 x 2 combinations
+  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+           {"sweep crum-torus --vary max_steps=4,lots", "--vary max_steps=lots: expected a number"},
+           {"sweep crum-torus --vary max_step=4", "--vary max_step: unknown key"},
+           {"sweep crum-torus --vary max_steps=4 --width 16 --repeat 1 --target no.such=1", "--target no.such"},
+           {"sweep crum-torus --vary max_steps=4 --repeat 0", "--repeat 0"}}) {
+    const CommandRun bad = run(args);
+    EXPECT_EQ(bad.status, 2) << args << "\n" << bad.output;
+    EXPECT_NE(bad.output.find(message), std::string::npos) << args << "\n" << bad.output;
+  }
+}
+
+TEST_F(Cli, CompareExitsOneOnAWorseMetricZeroOnTheSameFileTwoOnBadInput) {
+  ASSERT_EQ(run("validate crum-torus --json " + path("base.json")).status, 0);
+  EXPECT_EQ(run("compare " + path("base.json") + " " + path("base.json")).status, 0);
+  // The same scene marched with a quarter of the steps: more undecided rays and a failing check.
+  ASSERT_EQ(run("validate crum-torus --set max_steps=6 --json " + path("worse.json")).status, 1);
+  const CommandRun worse = run("compare " + path("base.json") + " " + path("worse.json"));
+  EXPECT_EQ(worse.status, 1) << worse.output;
+  EXPECT_NE(worse.output.find("REGRESSION"), std::string::npos) << worse.output;
+  EXPECT_NE(worse.output.find("crum-torus: hit.undecided"), std::string::npos) << worse.output;
+  std::ofstream(path("junk.json")) << "{\"kind\": 3}";
+  const CommandRun junk = run("compare " + path("base.json") + " " + path("junk.json"));
+  EXPECT_EQ(junk.status, 2);
+  EXPECT_NE(junk.output.find("junk.json"), std::string::npos) << junk.output;
+  EXPECT_EQ(run("compare " + path("base.json") + " " + path("nope.json")).status, 2);
 }
 
 }  // namespace

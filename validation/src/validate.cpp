@@ -284,36 +284,19 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
   if (std::isfinite(overestimate)) m["sdf.overestimate_max"] = overestimate;
 }
 
-// The marched render beside the reference render (exact hits, normals and shadows; the true eye), both at
-// reduced size with the effects only marching defines left out of both.
-void compare_images(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::string, double>& m) {
-  sdf::Scene small = scene;
-  const double k = std::min(1.0, static_cast<double>(opt.image_width) / scene.width);
-  small.width = std::max(1, static_cast<int>(scene.width * k));
-  small.height = std::max(1, static_cast<int>(scene.height * k));
-  small.camera.fx *= k;
-  small.camera.fy *= k;
-  if (small.camera.cx >= 0) small.camera.cx *= k;
-  if (small.camera.cy >= 0) small.camera.cy *= k;
-  small.effects.ao = sdf::AmbientOcclusion::none;
-  small.effects.glow = 0;
-  small.effects.max_bounces = 0;
-  const Reference ref(scene.intended ? *scene.intended : scene.root, scene.time);
-  const march::SurfaceOracle oracle = oracle_of(ref);
-  const march::RenderResult marched = march::render(small), reference = march::render(small, {}, &oracle);
+void image_metrics(const ImagePair& pair, double threshold, std::map<std::string, double>& m) {
   double sum2 = 0, worst = 0;
   size_t over = 0;
-  const size_t pixels = marched.color.pixels.size() / 3;
-  for (size_t i = 0; i < pixels; ++i) {
-    double pixel_worst = 0;
-    for (size_t c = 0; c < 3; ++c) {
-      const double a = std::clamp<double>(marched.color.pixels[3 * i + c], 0, 1);
-      const double b = std::clamp<double>(reference.color.pixels[3 * i + c], 0, 1);
-      sum2 += (a - b) * (a - b);
-      pixel_worst = std::max(pixel_worst, std::abs(a - b));
-    }
-    worst = std::max(worst, pixel_worst);
-    if (pixel_worst > opt.image_threshold) ++over;
+  const auto& marched = pair.marched.color.pixels;
+  const auto& reference = pair.reference.color.pixels;
+  const size_t pixels = pair.difference.pixels.size();
+  for (size_t i = 0; i < 3 * pixels; ++i) {
+    const double d = std::clamp<double>(marched[i], 0, 1) - std::clamp<double>(reference[i], 0, 1);
+    sum2 += d * d;
+  }
+  for (const float d : pair.difference.pixels) {
+    worst = std::max<double>(worst, d);
+    if (d > threshold) ++over;
   }
   const double rms = std::sqrt(sum2 / static_cast<double>(3 * pixels));
   m["image.rms"] = rms;
@@ -323,6 +306,25 @@ void compare_images(const sdf::Scene& scene, const ValidateOptions& opt, std::ma
 }
 
 }  // namespace
+
+ImagePair render_image_pair(const sdf::Scene& scene, int width, const std::vector<march::Aov>& marched_aovs) {
+  sdf::Scene small = sdf::scaled_to_width(scene, std::min(width, scene.width));
+  small.effects.ao = sdf::AmbientOcclusion::none;
+  small.effects.glow = 0;
+  small.effects.max_bounces = 0;
+  const Reference ref(scene.intended ? *scene.intended : scene.root, scene.time);
+  const march::SurfaceOracle oracle = oracle_of(ref);
+  ImagePair pair{march::render(small, marched_aovs), march::render(small, {}, &oracle), {}};
+  pair.difference = march::Image(small.width, small.height, 1);
+  for (size_t i = 0; i < pair.difference.pixels.size(); ++i) {
+    float worst = 0;
+    for (size_t c = 0; c < 3; ++c)
+      worst = std::max(worst, std::abs(std::clamp(pair.marched.color.pixels[3 * i + c], 0.f, 1.f) -
+                                       std::clamp(pair.reference.color.pixels[3 * i + c], 0.f, 1.f)));
+    pair.difference.pixels[i] = worst;
+  }
+  return pair;
+}
 
 march::SurfaceOracle oracle_of(const Reference& ref) {
   return {[&ref](dvec3 o, dvec3 d, double t_max) -> std::optional<march::SurfaceOracle::Hit> {
@@ -342,7 +344,12 @@ SceneResult validate_scene(const sdf::Scene& scene, const ValidateOptions& optio
   } else {
     measure<float>(scene, options, r.metrics);
   }
-  if (options.image_width > 0) compare_images(scene, options, r.metrics);
+  if (options.image_width > 0) {
+    ImagePair pair = render_image_pair(scene, options.image_width,
+                                       options.keep_images ? std::vector{march::Aov::steps} : std::vector<march::Aov>{});
+    image_metrics(pair, options.image_threshold, r.metrics);
+    if (options.keep_images) r.images = std::move(pair);
+  }
   r.metrics["cost.seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   for (const auto& d : default_limits()) {
     auto value = r.metrics.find(d.metric);

@@ -33,7 +33,38 @@ struct ValidateCommand {
 };
 int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& err);
 
-// Renders every built-in scene into dir (the main job until the accuracy report exists).
+// Renders every built-in scene into dir.
 int run_render_all(const std::string& dir, std::ostream& out, std::ostream& err);
+
+struct SweepCommand {
+  std::string scene;
+  std::vector<std::string> vary;     // "KEY=V1,V2,..."
+  std::vector<std::string> targets;  // "METRIC=VALUE"
+  std::string error_metric = "image.rms";
+  int repeat = 3;
+  int render_width = 640;
+  std::optional<std::string> json, csv;
+  std::vector<std::string> sets;
+  bool progress = false;  // a progress bar on err
+};
+int run_sweep(const SweepCommand& cmd, std::ostream& out, std::ostream& err);
+
+struct CompareCommand {
+  std::string baseline, current;
+  std::vector<std::string> tolerances;  // "METRIC=REL" (METRIC may end in '*')
+};
+int run_compare(const CompareCommand& cmd, std::ostream& out, std::ostream& err);
+
+struct ReportCommand {
+  std::string dir = "reports/out";
+  std::vector<std::string> scenes;  // empty: every built-in
+  std::vector<std::string> sets;
+  bool quick = false;     // fewer sweep points and smaller renders (for tests)
+  bool progress = false;  // a line per step on err
+};
+// Validates the scenes, runs the standard sweeps and studies, plots them, and writes DIR/index.html. The
+// report is built in a sibling folder and swapped into place, so an interrupted run leaves the previous
+// report whole. Exit 0 when every correct scene passes and every defect variant is caught, 1 otherwise.
+int run_report(const ReportCommand& cmd, std::ostream& out, std::ostream& err);
 
 }  // namespace marchcheck::reports

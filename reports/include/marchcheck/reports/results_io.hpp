@@ -1,8 +1,12 @@
 // Result files: flat dotted metrics as JSON, written atomically.
 #pragma once
 
+#include "marchcheck/validation/sweep.hpp"
+#include "marchcheck/validation/validate.hpp"
+
 #include <map>
 #include <string>
+#include <vector>
 
 namespace marchcheck::reports {
 
@@ -12,5 +16,15 @@ void write_text_atomically(const std::string& path, const std::string& text);
 
 // {"metric.name": value, ...} sorted by name; non-finite values are written as null.
 std::string metrics_json(const std::map<std::string, double>& metrics);
+
+// {"kind": "validate", "results": [{scene, defects, pass, checks: [{name, value, limit, pass, limit_source,
+// why}], metrics: {...}}]}
+std::string validate_json(const std::vector<validation::SceneResult>& results);
+
+// {"kind": "sweep", scene, axes, error_metric, targets, cheapest_meeting, points: [{settings, pass,
+// pareto_evals, pareto_seconds, meets_targets, metrics}]}
+std::string sweep_json(const validation::SweepResult& result);
+// One row per combination: its settings, pass, the front marks, then every metric any point has.
+std::string sweep_csv(const validation::SweepResult& result);
 
 }  // namespace marchcheck::reports

@@ -168,10 +168,13 @@ std::vector<std::string> declared_effects(const Scene& scene);
 // Index of the named material; -1 when there is none.
 int find_material(const Scene& scene, std::string_view name);
 
-// Applies one KEY=VALUE override (march parameters, time, width, height, camera.*). Throws SceneError naming
-// the key and what was expected.
+// Applies one KEY=VALUE override (march parameters, time, width, height, camera.*). Throws SceneError
+// "KEY[=VALUE]: what was expected"; callers say which option it came from.
 void apply_setting(Scene& scene, std::string_view key, std::string_view value);
 // The keys apply_setting accepts.
 std::vector<std::string> setting_keys();
+
+// The same view at another width (height in proportion, intrinsics scaled with it), for cheaper renders.
+Scene scaled_to_width(const Scene& scene, int width);
 
 }  // namespace marchcheck::sdf

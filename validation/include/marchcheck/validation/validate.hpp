@@ -6,6 +6,7 @@
 #include "marchcheck/validation/reference.hpp"
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,11 +21,21 @@ struct Check {
   std::string why;           // what the limit stands for
 };
 
+// The marched render beside the reference render (exact hits, normals and shadows; the true eye) at a reduced
+// width, with the effects only marching defines (step-count and sampled occlusion, glow, bounces) left out of
+// both, and their per-pixel difference.
+struct ImagePair {
+  march::RenderResult marched, reference;
+  march::Image difference;  // one channel: the largest colour-channel difference, colours clamped to [0, 1]
+};
+ImagePair render_image_pair(const sdf::Scene& scene, int width, const std::vector<march::Aov>& marched_aovs = {});
+
 struct SceneResult {
   std::string scene;
   std::vector<std::string> defects;
   std::map<std::string, double> metrics;
   std::vector<Check> checks;
+  std::optional<ImagePair> images;  // with ValidateOptions::keep_images
   bool pass() const;
 };
 
@@ -32,6 +43,7 @@ struct ValidateOptions {
   int rays_x = 64, rays_y = 36;  // primary rays sampled across the image
   int image_width = 320;         // width of the marched/reference image pair (0: no image comparison)
   double image_threshold = 0.1;  // a pixel "differs" when a channel differs by more than this
+  bool keep_images = false;      // keep the image pair (marched with the steps AOV) in the result
 };
 
 // The reference as the renderer's oracle (for reference renders); ref must outlive it.

@@ -1,0 +1,495 @@
+// marchcheck report: the accuracy report of the built-in scenes as a plain HTML folder.
+#include "marchcheck/reports/commands.hpp"
+
+#include "marchcheck/march/render.hpp"
+#include "marchcheck/reports/results_io.hpp"
+#include "command_support.hpp"
+#include "marchcheck/sdf/builtin_scenes.hpp"
+#include "marchcheck/sdf/scene_file.hpp"
+#include "marchcheck/validation/convergence.hpp"
+#include "marchcheck/validation/sweep.hpp"
+#include "marchcheck/validation/validate.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <fcntl.h>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <spawn.h>
+#include <sstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+extern char** environ;
+
+namespace marchcheck::reports {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kBadInput = 2;
+constexpr const char* kMarker = ".marchcheck-report";  // marks a folder this command may replace
+constexpr double kErrorMapMax = 0.25;                   // colour difference at the top of the error heat map
+constexpr int kShownWidth = 320;                        // four scene images side by side; each links to its file
+
+struct ReportError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+std::string escape(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&#39;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+// Scene names become file names and anchors: keep only what is safe in both.
+std::string slug(std::string_view name) {
+  std::string out;
+  for (const char c : name) out += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' ? c : '_';
+  return out.empty() ? "scene" : out;
+}
+
+// A metric name in a narrow table header: may break after its dots and underscores.
+std::string breakable(std::string_view name) {
+  std::string out;
+  for (const char c : escape(name)) out += c == '.' || c == '_' ? std::string(1, c) + "<wbr>" : std::string(1, c);
+  return out;
+}
+
+std::string number(double v, int precision = 4) {
+  if (!std::isfinite(v)) return "–";
+  std::ostringstream s;
+  s << std::setprecision(precision) << v;
+  return s.str();
+}
+
+double metric(const std::map<std::string, double>& m, const std::string& name) {
+  const auto it = m.find(name);
+  return it == m.end() ? std::nan("") : it->second;
+}
+
+struct SceneReport {
+  sdf::Scene scene;
+  validation::SceneResult result;
+  std::map<std::string, double> cost;  // the declared render's cost metrics
+  std::string file;                    // slug for images and anchors
+  int steps_max = 0;
+  double pixels = 1;  // of the declared render
+};
+
+// Runs the plot script with the Python that has matplotlib (Debian's /usr/bin/python3 unless MARCHCHECK_PYTHON
+// says otherwise); its output goes to a log file whose tail is quoted on failure.
+void draw_plots(const fs::path& data, const fs::path& plots) {
+  const char* python_env = std::getenv("MARCHCHECK_PYTHON");
+  const std::string python = python_env && *python_env ? python_env : "/usr/bin/python3";
+  const std::string script = MARCHCHECK_PLOT_SCRIPT, data_dir = data.string(), plots_dir = plots.string();
+  const fs::path log = data / "plots.log";
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  std::vector<char*> argv = {const_cast<char*>(python.c_str()), const_cast<char*>(script.c_str()),
+                             const_cast<char*>(data_dir.c_str()), const_cast<char*>(plots_dir.c_str()), nullptr};
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, python.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) throw ReportError("plots: cannot run " + python + ": " + std::strerror(spawned));
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    std::ifstream in(log);
+    std::string line, tail;
+    while (std::getline(in, line)) tail = line;
+    throw ReportError("plots: " + python + " " + script + " failed" + (tail.empty() ? "" : ": " + tail) +
+                      " (set MARCHCHECK_PYTHON to a python3 with matplotlib)");
+  }
+}
+
+// The folder's previous content must be a report (or nothing): the swap deletes what it replaces.
+void check_replaceable(const fs::path& dir) {
+  if (!fs::exists(dir)) return;
+  if (!fs::is_directory(dir)) throw ReportError(dir.string() + ": exists and is not a folder");
+  if (fs::is_empty(dir) || fs::exists(dir / kMarker)) return;
+  throw ReportError(dir.string() + ": the folder holds files that are not a marchcheck report; choose a new or "
+                    "empty folder (the report replaces the folder's whole content)");
+}
+
+// Puts the finished folder in place in one step: renameat2(RENAME_EXCHANGE) swaps it with the previous report,
+// so a reader sees the old report or the new one, never a mixture; the old one is then removed.
+void swap_into_place(const fs::path& built, const fs::path& dir) {
+  if (!fs::exists(dir)) {
+    fs::rename(built, dir);
+    return;
+  }
+  if (::renameat2(AT_FDCWD, built.c_str(), AT_FDCWD, dir.c_str(), RENAME_EXCHANGE) != 0)
+    throw ReportError(dir.string() + ": cannot swap the new report into place: " + std::strerror(errno));
+  fs::remove_all(built);
+}
+
+class Builder {
+ public:
+  Builder(const ReportCommand& cmd, fs::path root, std::ostream& err) : cmd_(cmd), root_(std::move(root)), err_(err) {}
+
+  int build(std::vector<sdf::Scene> scenes) {
+    for (const char* sub : {"images", "data", "plots"}) fs::create_directories(root_ / sub);
+    std::ofstream(root_ / kMarker) << "written by marchcheck report\n";
+    for (auto& scene : scenes) reports_.push_back(scene_report(std::move(scene)));
+    std::vector<validation::SceneResult> results;
+    for (const auto& r : reports_) results.push_back(r.result);
+    write_text_atomically((root_ / "data" / "validate.json").string(), validate_json(results));
+    studies();
+    step("plots");
+    draw_plots(root_ / "data", root_ / "plots");
+    write_text_atomically((root_ / "index.html").string(), html());
+    return all_as_expected() ? 0 : 1;
+  }
+
+ private:
+  void step(const std::string& what) {
+    if (cmd_.progress) err_ << "report: " << what << "\n" << std::flush;
+  }
+
+  int image_width() const { return cmd_.quick ? 160 : 480; }
+
+  SceneReport scene_report(sdf::Scene scene) {
+    step("validate " + scene.name);
+    SceneReport r;
+    r.file = slug(scene.name);
+    validation::ValidateOptions options;
+    options.image_width = image_width();
+    options.keep_images = true;
+    r.result = validation::validate_scene(scene, options);
+    const validation::ImagePair& pair = *r.result.images;
+    const fs::path images = root_ / "images";
+    march::write_image(pair.marched.color, (images / (r.file + ".marched.png")).string());
+    march::write_image(pair.reference.color, (images / (r.file + ".reference.png")).string());
+    march::write_image(march::heat_map(pair.difference, kErrorMapMax), (images / (r.file + ".error.png")).string(), false);
+    const auto& steps = pair.marched.steps.pixels;
+    r.steps_max = steps.empty() ? 0 : static_cast<int>(*std::max_element(steps.begin(), steps.end()));
+    march::write_image(march::heat_map(pair.marched.steps, std::max(1, r.steps_max)),
+                       (images / (r.file + ".steps.png")).string(), false);
+    const march::RenderResult declared = march::render(sdf::scaled_to_width(scene, std::min(image_width(), scene.width)));
+    r.cost = march::cost_metrics(declared);
+    r.pixels = std::max(1.0, static_cast<double>(declared.color.width) * declared.color.height);
+    r.result.images.reset();  // the pixels are on disk; keep the memory bounded over many scenes
+    r.scene = std::move(scene);
+    return r;
+  }
+
+  void save_sweep(const std::string& name, const validation::SweepResult& result) {
+    write_text_atomically((root_ / "data" / (name + ".json")).string(), sweep_json(result));
+    write_text_atomically((root_ / "data" / (name + ".csv")).string(), sweep_csv(result));
+  }
+
+  void studies() {
+    const bool q = cmd_.quick;
+    using validation::SweepAxis;
+    validation::SweepOptions timed;
+    timed.repeat = q ? 1 : 3;
+    timed.render_width = q ? 160 : 320;
+    step("sweep lee-flat max_steps x marcher");
+    steps_sweep_ = validation::sweep(
+        sdf::builtin_scene("lee-flat"),
+        {SweepAxis{"marcher", {"sphere", "relaxed"}},
+         SweepAxis{"max_steps", q ? std::vector<std::string>{"8", "32", "128"}
+                                  : std::vector<std::string>{"8", "16", "32", "64", "128", "256"}}},
+        timed);
+    save_sweep("sweep-steps", steps_sweep_);
+
+    // Accuracy only: one small untimed render per point, no image comparison.
+    validation::SweepOptions untimed;
+    untimed.repeat = 1;
+    untimed.render_width = 64;
+    untimed.validate.image_width = 0;
+    untimed.error_metric = "normal.angle_p99_deg";
+    step("sweep crum-torus normal x normal_eps");
+    save_sweep("sweep-normals",
+               validation::sweep(sdf::builtin_scene("crum-torus"),
+                                 {SweepAxis{"normal", {"central", "forward", "tetra", "analytic"}},
+                                  SweepAxis{"normal_eps", q ? std::vector<std::string>{"0.1", "0.001"}
+                                                            : std::vector<std::string>{"0.1", "0.03", "0.01", "0.003",
+                                                                                       "0.001", "0.0001", "1e-05"}}},
+                                 untimed));
+    untimed.error_metric = "shadow.false_lit";
+    step("sweep lee-flat-defect-bias shadow_bias");
+    // At the seed's SURF_DIST 0.05 the strategies differ; at lee-flat's 0.01 all three are clean.
+    shadow_sweep_ = validation::sweep(sdf::builtin_scene("lee-flat-defect-bias"),
+                                      {SweepAxis{"shadow_bias", {"seed_offset", "seed_ignore", "scaled"}}}, untimed);
+    save_sweep("sweep-shadow", shadow_sweep_);
+
+    step("convergence against max_steps");
+    const std::vector<int> limits = q ? std::vector<int>{8, 64, 512} : std::vector<int>{8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096};
+    nlohmann::ordered_json convergence = nlohmann::ordered_json::object();
+    for (const char* name : {"lee-flat", "crum-torus", "warped", "fogerty", "flafla-csg"}) {
+      if (q && std::string(name) != "crum-torus" && std::string(name) != "warped") continue;
+      nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+      for (const auto& row : validation::steps_study(sdf::builtin_scene(name), limits, q ? 16 : 48, q ? 9 : 27))
+        rows.push_back({{"max_steps", row.parameter}, {"decided", row.decided}, {"t_err_p99", row.t_err_p99},
+                        {"evals_per_ray", row.evals_per_ray}});
+      convergence[name] = rows;
+    }
+    write_text_atomically((root_ / "data" / "convergence.json").string(), convergence.dump(2) + "\n");
+
+    step("grazing rays");
+    std::vector<double> clearances;
+    for (int e = 1; e <= (q ? 3 : 6); ++e) clearances.push_back(std::pow(10.0, -e));
+    nlohmann::ordered_json grazing = nlohmann::ordered_json::array();
+    for (const auto& row : validation::grazing_study(clearances))
+      grazing.push_back({{"clearance", row.clearance}, {"steps", row.steps}, {"law", row.law}});
+    write_text_atomically((root_ / "data" / "grazing.json").string(), grazing.dump(2) + "\n");
+  }
+
+  bool as_expected(const SceneReport& r) const { return r.scene.defects.empty() == r.result.pass(); }
+  bool all_as_expected() const {
+    return std::all_of(reports_.begin(), reports_.end(), [&](const SceneReport& r) { return as_expected(r); });
+  }
+
+  std::string html() const {
+    std::ostringstream h;
+    size_t checks = 0, passed = 0, correct = 0, correct_pass = 0, defects = 0, caught = 0;
+    for (const auto& r : reports_) {
+      for (const auto& c : r.result.checks) checks += 1, passed += c.pass;
+      if (r.scene.defects.empty()) correct += 1, correct_pass += r.result.pass();
+      else defects += 1, caught += !r.result.pass();
+    }
+    const auto now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+    char date[64];
+    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+
+    h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
+      << "<title>marchcheck accuracy report</title>\n<style>\n"
+      << "body{font-family:system-ui,sans-serif;margin:1.5em auto;max-width:1400px;color:#222;padding:0 1em}\n"
+      << "table{border-collapse:collapse;margin:.5em 0;font-size:.85em}td.l a{white-space:nowrap}td,th{border:1px solid #ccc;padding:2px 6px;"
+         "text-align:right}th{background:#f3f3f3}td.l,th.l{text-align:left}\n"
+      << ".pass{color:#176b2c}.fail{color:#b00020;font-weight:bold}.expected{color:#8a5a00}\n"
+      << "figure{display:inline-block;margin:0 .6em .6em 0;vertical-align:top}figcaption{font-size:.8em;color:#555;"
+         "max-width:480px}\n"
+      << "img{border:1px solid #ddd}.summary{font-size:1.1em;background:#f7f7f7;padding:.6em 1em;border-left:4px solid "
+         "#888}\nsection.scene{border-top:1px solid #ddd;margin-top:1.5em}code{background:#f3f3f3;padding:0 3px}\n"
+      << "</style></head>\n<body>\n<h1>marchcheck accuracy report</h1>\n";
+    h << "<p>Generated " << date << " on " << std::thread::hardware_concurrency()
+      << " hardware threads. Every marched result is checked against references that share none of its code: "
+         "closed-form and exact CSG ray casting, CGAL mesh queries, and a double-precision numerical reference.</p>\n";
+    const size_t correct_fail = correct - correct_pass, uncaught = defects - caught;
+    h << "<div class=\"summary\" id=\"summary\"><b>"
+      << (correct_fail == 0 ? "Every correct scene passes every check"
+                            : std::to_string(correct_fail) + " of " + std::to_string(correct) + " correct scenes fail a check")
+      << "; " << (uncaught == 0 ? "every" : std::to_string(caught) + " of " + std::to_string(defects)) << " seed-defect variant"
+      << (uncaught == 0 ? " is" : "s are") << " caught by a failing check.</b> " << passed << " of " << checks
+      << " checks pass in all (a defect variant's failing checks are the ones that catch it).";
+    std::vector<const SceneReport*> unexpected;
+    for (const auto& r : reports_)
+      if (!as_expected(r)) unexpected.push_back(&r);
+    if (!unexpected.empty()) {
+      h << "<br>What failed:<ul>";
+      for (const auto* r : unexpected) {
+        h << "<li><a href=\"#" << r->file << "\">" << escape(r->scene.name) << "</a>: ";
+        if (!r->scene.defects.empty()) {
+          h << "reproduces a defect but no check fails";
+        } else {
+          std::string list;
+          for (const auto& c : r->result.checks)
+            if (!c.pass) list += (list.empty() ? "" : ", ") + escape(c.name) + " = " + number(c.value) + " (limit " + number(c.limit) + ")";
+          h << list;
+        }
+        h << "</li>";
+      }
+      h << "</ul>";
+    }
+    h << "</div>\n";
+
+    const char* columns[] = {"hit.false_hit", "hit.false_miss", "hit.overshoot", "hit.undecided", "hit.t_err_p99",
+                             "normal.angle_p99_deg", "shadow.false_shadow", "shadow.false_lit", "image.pixels_over"};
+    h << "<h2 id=\"scenes\">Scenes</h2>\n<table><tr><th class=\"l\">scene</th><th class=\"l\">result</th>";
+    for (const char* k : columns) h << "<th>" << breakable(k) << "</th>";
+    h << "<th>" << breakable("cost.evals_per_pixel") << "</th><th>render seconds (width " << image_width() << ")</th></tr>\n";
+    for (const auto& r : reports_) {
+      const auto& m = r.result.metrics;
+      h << "<tr><td class=\"l\"><a href=\"#" << r.file << "\">" << escape(r.scene.name) << "</a></td>" << result_cell(r);
+      for (const char* k : columns) h << "<td>" << number(metric(m, k)) << "</td>";
+      h << "<td>" << number(metric(r.cost, "cost.evals_per_pixel"), 3) << "</td><td>"
+        << number(metric(r.cost, "cost.seconds"), 3) << "</td></tr>\n";
+    }
+    h << "</table>\n";
+
+    h << "<h2 id=\"defects\">Seed defects and the checks that catch them</h2>\n<table><tr><th class=\"l\">variant</th>"
+         "<th class=\"l\">defect</th><th class=\"l\">caught by</th><th>value</th><th>limit</th></tr>\n";
+    for (const auto& r : reports_) {
+      if (r.scene.defects.empty()) continue;
+      std::vector<const validation::Check*> failing;
+      for (const auto& c : r.result.checks)
+        if (!c.pass) failing.push_back(&c);
+      const size_t rows = std::max<size_t>(1, failing.size());
+      h << "<tr><td class=\"l\" rowspan=\"" << rows << "\"><a href=\"#" << r.file << "\">" << escape(r.scene.name)
+        << "</a></td><td class=\"l\" rowspan=\"" << rows << "\">";
+      for (const auto& d : r.scene.defects) h << escape(d) << " ";
+      h << "</td>";
+      if (failing.empty()) h << "<td class=\"l fail\">not caught</td><td></td><td></td></tr>\n";
+      for (size_t i = 0; i < failing.size(); ++i)
+        h << (i ? "<tr>" : "") << "<td class=\"l\">" << escape(failing[i]->name) << "</td><td>" << number(failing[i]->value)
+          << "</td><td>" << number(failing[i]->limit) << "</td></tr>\n";
+    }
+    h << "</table>\n";
+
+    h << "<h2 id=\"plots\">What accuracy costs</h2>\n";
+    plot(h, "pareto", "Image error (RMS against the reference render) against SDF evaluations per pixel for lee-flat, "
+                      "sphere and relaxed tracing at each step limit; the dashed line is the Pareto front.");
+    plot(h, "convergence", "Fraction of rays that end decided (hit or miss) as the step limit grows.");
+    plot(h, "normals", "crum-torus: 99th-percentile normal error against the finite-difference epsilon, per method "
+                       "(analytic normals use forward-mode derivatives and ignore epsilon).");
+    plot(h, "shadows", "lee-flat at the seed's hit threshold 0.05 (lee-flat-defect-bias): hard-shadow errors at the "
+                       "reference hit points per bias strategy.");
+    plot(h, "grazing", "Steps a sphere tracer needs to pass a unit sphere at clearance b, against π·sqrt(2R/b).");
+    h << "<p>" << sweep_summary() << "</p>\n<p>Data behind the plots: <a href=\"data/\">data/</a> (JSON and CSV, as "
+         "<code>marchcheck sweep</code> writes them).</p>\n";
+
+    for (const auto& r : reports_) scene_section(h, r);
+    h << "<script>\n// Report health, read by the project's browser test: every image must load.\n"
+         "window.addEventListener('load', () => {\n"
+         "  const images = Array.from(document.images);\n"
+         "  const broken = images.filter(i => !i.complete || i.naturalWidth === 0);\n"
+         "  broken.forEach(i => console.error('image failed to load: ' + i.getAttribute('src')));\n"
+         "  document.body.dataset.imagesLoaded = (images.length - broken.length) + '/' + images.length;\n"
+         "});\n</script>\n</body></html>\n";
+    return h.str();
+  }
+
+  std::string result_cell(const SceneReport& r) const {
+    if (!r.scene.defects.empty())
+      return r.result.pass() ? "<td class=\"l fail\">defect not caught</td>" : "<td class=\"l expected\">fails (defect caught)</td>";
+    return r.result.pass() ? "<td class=\"l pass\">pass</td>" : "<td class=\"l fail\">FAIL</td>";
+  }
+
+  static void plot(std::ostringstream& h, const std::string& name, const std::string& caption) {
+    h << "<figure><img src=\"plots/" << name << ".png\" alt=\"" << name << "\" width=\"640\"><figcaption>"
+      << escape(caption) << "</figcaption></figure>\n";
+  }
+
+  std::string sweep_summary() const {
+    std::ostringstream s;
+    const auto& pts = steps_sweep_.points;
+    const auto find = [&](const std::string& marcher, const std::string& steps) -> const validation::SweepPoint* {
+      for (const auto& p : pts)
+        if (p.settings[0].second == marcher && p.settings[1].second == steps) return &p;
+      return nullptr;
+    };
+    const std::string top = steps_sweep_.axes.empty() ? "" : steps_sweep_.axes[1].values.back();
+    const auto* sphere = find("sphere", top);
+    const auto* relaxed = find("relaxed", top);
+    if (sphere && relaxed) {
+      const double es = metric(sphere->metrics, "cost.evals_per_pixel"), er = metric(relaxed->metrics, "cost.evals_per_pixel");
+      s << "At max_steps " << top << ", relaxed tracing spends " << number(er, 3) << " evaluations per pixel against "
+        << number(es, 3) << " for sphere tracing (" << number(100 * (1 - er / es), 3) << "% fewer), image RMS error "
+        << number(metric(relaxed->metrics, "image.rms")) << " against " << number(metric(sphere->metrics, "image.rms"))
+        << ". ";
+    }
+    for (const auto& p : shadow_sweep_.points)
+      s << "Shadow bias " << escape(p.settings[0].second) << ": false shadow " << number(metric(p.metrics, "shadow.false_shadow"))
+        << ", false lit " << number(metric(p.metrics, "shadow.false_lit")) << ". ";
+    return s.str();
+  }
+
+  void scene_section(std::ostringstream& h, const SceneReport& r) const {
+    h << "<section class=\"scene\" id=\"" << r.file << "\"><h2>" << escape(r.scene.name) << "</h2>\n<p>" << escape(r.scene.description) << "</p>\n<p>Effects: ";
+    for (const auto& e : sdf::declared_effects(r.scene)) h << "<code>" << escape(e) << "</code> ";
+    const auto info = sdf::derive_info(r.scene.root, r.scene.time);
+    h << "&nbsp; SDF kind: " << escape(sdf::to_string(info.kind)) << ", Lipschitz bound " << number(info.lipschitz)
+      << " (" << escape(info.reason) << ")</p>\n";
+    const auto figure = [&](const std::string& suffix, const std::string& caption) {
+      const std::string src = "images/" + r.file + "." + suffix + ".png";
+      h << "<figure><a href=\"" << src << "\"><img src=\"" << src << "\" alt=\"" << escape(r.scene.name) << " "
+        << suffix << "\" width=\"" << kShownWidth << "\"></a><figcaption>" << escape(caption) << "</figcaption></figure>\n";
+    };
+    figure("marched", "marched");
+    figure("reference", "reference (exact hits, normals, shadows)");
+    figure("error", "error heat map: largest colour difference, 0 to " + number(kErrorMapMax));
+    figure("steps", "primary march steps, 0 to " + std::to_string(r.steps_max));
+    if (r.scene.effects.ao != sdf::AmbientOcclusion::none || r.scene.effects.glow > 0 || r.scene.effects.max_bounces > 0)
+      h << "<p>Both images leave out the effects only marching defines (occlusion, glow, bounces); their cost is in the "
+           "table below.</p>\n";
+    h << "<table><tr><th class=\"l\">stage (declared render, width " << std::min(image_width(), r.scene.width)
+      << ")</th><th>evaluations per pixel</th><th>thread-seconds</th></tr>\n";
+    for (const auto& [k, v] : r.cost) {
+      const std::string prefix = "cost.stages.";
+      if (k.rfind(prefix, 0) != 0 || k.size() < 6 || k.compare(k.size() - 6, 6, ".evals") != 0) continue;
+      const std::string stage = k.substr(prefix.size(), k.size() - prefix.size() - 6);
+      const double seconds = metric(r.cost, prefix + stage + ".seconds");
+      if (v == 0 && !(seconds > 0)) continue;  // a stage the scene does not declare
+      h << "<tr><td class=\"l\">" << escape(stage) << "</td><td>" << number(v / r.pixels, 3) << "</td><td>"
+        << number(seconds, 3) << "</td></tr>\n";
+    }
+    h << "<tr><th class=\"l\">all (wall seconds)</th><th>" << number(metric(r.cost, "cost.evals_per_pixel"), 3) << "</th><th>"
+      << number(metric(r.cost, "cost.seconds"), 3) << "</th></tr></table>\n";
+    h << "<table><tr><th class=\"l\">check</th><th>value</th><th>limit</th><th class=\"l\">result</th>"
+         "<th class=\"l\">limit from</th><th class=\"l\">what the limit stands for</th></tr>\n";
+    for (const auto& c : r.result.checks)
+      h << "<tr><td class=\"l\">" << escape(c.name) << "</td><td>" << number(c.value) << "</td><td>" << number(c.limit)
+        << "</td><td class=\"l " << (c.pass ? "pass\">pass" : "fail\">FAIL") << "</td><td class=\"l\">"
+        << escape(c.limit_source) << "</td><td class=\"l\">" << escape(c.why) << "</td></tr>\n";
+    h << "</table></section>\n";
+  }
+
+  const ReportCommand& cmd_;
+  fs::path root_;
+  std::ostream& err_;
+  std::vector<SceneReport> reports_;
+  validation::SweepResult steps_sweep_, shadow_sweep_;
+};
+
+}  // namespace
+
+int run_report(const ReportCommand& cmd, std::ostream& out, std::ostream& err) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<sdf::Scene> scenes;
+  fs::path dir = fs::path(cmd.dir).lexically_normal();
+  if (dir.has_filename() == false) dir = dir.parent_path();
+  try {
+    for (const auto& name : cmd.scenes.empty() ? sdf::builtin_scene_names() : cmd.scenes) {
+      scenes.push_back(sdf::resolve_scene(name));
+      apply_sets(scenes.back(), cmd.sets);
+      sdf::compile(scenes.back().root, scenes.back().time);
+    }
+    check_replaceable(dir);
+    if (!dir.parent_path().empty()) fs::create_directories(dir.parent_path());
+  } catch (const std::exception& e) {
+    err << "marchcheck report: " << e.what() << "\n";
+    return kBadInput;
+  }
+  const fs::path built = dir.parent_path() / ("." + dir.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  int status = 0;
+  try {
+    fs::remove_all(built);
+    status = Builder(cmd, built, err).build(std::move(scenes));
+    swap_into_place(built, dir);
+  } catch (const std::exception& e) {
+    std::error_code ignored;
+    fs::remove_all(built, ignored);
+    err << "marchcheck report: " << e.what() << " (the previous report, if any, is unchanged)\n";
+    return kBadInput;
+  }
+  out << "report: " << (dir / "index.html").string() << " ("
+      << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s)"
+      << (status == 0 ? "" : "; a check failed where it should pass, or a defect went uncaught: see the summary") << "\n";
+  return status;
+}
+
+}  // namespace marchcheck::reports

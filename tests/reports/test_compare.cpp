@@ -1,0 +1,111 @@
+// Regression comparison of result files: what counts as worse, tolerances, and bad files.
+#include "marchcheck/reports/compare.hpp"
+
+#include <gtest/gtest.h>
+
+namespace marchcheck::reports {
+namespace {
+
+// A validate result as `marchcheck validate --json` writes it, with the numbers the tests vary.
+std::string validate_file(double false_hit, double psnr, double seconds, bool pass, const char* extra_scene = "") {
+  return R"({"kind": "validate", "results": [{"scene": "lee-flat", "defects": [], "pass": )" +
+         std::string(pass ? "true" : "false") + R"(, "checks": [{"name": "hit.false_hit", "value": )" +
+         std::to_string(false_hit) + R"(, "limit": 0, "pass": )" + (pass ? "true" : "false") +
+         R"(, "limit_source": "default", "why": ""}], "metrics": {"hit.false_hit": )" + std::to_string(false_hit) +
+         R"(, "image.psnr": )" + std::to_string(psnr) + R"(, "cost.seconds": )" + std::to_string(seconds) +
+         R"(, "hit.rays": 2304, "hit.t_err_max": null}})" + extra_scene + "]}";
+}
+
+Comparison compare(const std::string& a, const std::string& b, const std::vector<Tolerance>& t = {}) {
+  return compare_results(flatten_results(a, "base.json"), flatten_results(b, "cur.json"), t);
+}
+
+const MetricChange& change(const Comparison& c, const std::string& key) {
+  for (const auto& m : c.changes)
+    if (m.key == key) return m;
+  throw std::runtime_error("no change for " + key);
+}
+
+TEST(Compare, TheSameFileHasNoRegression) {
+  const auto c = compare(validate_file(0, 40, 1, true), validate_file(0, 40, 1, true));
+  EXPECT_FALSE(c.regression());
+  EXPECT_EQ(c.count(Verdict::same), c.changes.size());
+  EXPECT_EQ(c.changes.size(), 6u);  // 5 metrics (one null) and 1 check verdict
+}
+
+TEST(Compare, AMetricThatGotWorseIsARegression) {
+  const auto c = compare(validate_file(0, 40, 1, true), validate_file(3, 40, 1, false));
+  EXPECT_TRUE(c.regression());
+  EXPECT_EQ(change(c, "lee-flat: hit.false_hit").verdict, Verdict::regression);
+  EXPECT_EQ(change(c, "lee-flat: check hit.false_hit").verdict, Verdict::regression);
+  // The other way round is an improvement.
+  const auto back = compare(validate_file(3, 40, 1, false), validate_file(0, 40, 1, true));
+  EXPECT_FALSE(back.regression());
+  EXPECT_EQ(change(back, "lee-flat: hit.false_hit").verdict, Verdict::better);
+}
+
+TEST(Compare, PsnrIsBetterHigherAndTolerancesAreRelative) {
+  const auto lower = compare(validate_file(0, 40, 1, true), validate_file(0, 39, 1, true));
+  EXPECT_EQ(change(lower, "lee-flat: image.psnr").verdict, Verdict::regression);
+  // 39 is 2.5% below 40: a 5% tolerance accepts it, 1% does not; the longer pattern wins over "*".
+  const auto within = compare(validate_file(0, 40, 1, true), validate_file(0, 39, 1, true),
+                              {parse_tolerance("*=0.01"), parse_tolerance("image.*=0.05")});
+  EXPECT_EQ(change(within, "lee-flat: image.psnr").verdict, Verdict::worse_within_tolerance);
+  EXPECT_FALSE(within.regression());
+  const auto outside = compare(validate_file(0, 40, 1, true), validate_file(0, 39, 1, true),
+                               {parse_tolerance("image.psnr=0.01")});
+  EXPECT_TRUE(outside.regression());
+  EXPECT_EQ(compare(validate_file(0, 40, 1, true), validate_file(0, 41, 1, true)).count(Verdict::better), 1u);
+}
+
+TEST(Compare, WallTimeOnlyCountsWhenAToleranceNamesIt) {
+  const auto slower = compare(validate_file(0, 40, 1, true), validate_file(0, 40, 2, true));
+  EXPECT_EQ(change(slower, "lee-flat: cost.seconds").verdict, Verdict::informational);
+  EXPECT_FALSE(slower.regression());
+  const auto gated = compare(validate_file(0, 40, 1, true), validate_file(0, 40, 2, true), {parse_tolerance("cost.seconds=0.5")});
+  EXPECT_EQ(change(gated, "lee-flat: cost.seconds").verdict, Verdict::regression);
+}
+
+TEST(Compare, AScenePresentOnlyInTheBaselineIsMissingAndFails) {
+  const std::string second = R"(, {"scene": "crum-torus", "defects": [], "pass": true, "checks": [], "metrics": {"hit.false_hit": 0}})";
+  const auto dropped = compare(validate_file(0, 40, 1, true, second.c_str()), validate_file(0, 40, 1, true));
+  EXPECT_EQ(change(dropped, "crum-torus: hit.false_hit").verdict, Verdict::missing);
+  EXPECT_TRUE(dropped.regression());
+  const auto added = compare(validate_file(0, 40, 1, true), validate_file(0, 40, 1, true, second.c_str()));
+  EXPECT_EQ(change(added, "crum-torus: hit.false_hit").verdict, Verdict::added);
+  EXPECT_FALSE(added.regression());
+}
+
+TEST(Compare, SweepPointsAreKeyedByTheirSettings) {
+  const std::string a = R"({"kind": "sweep", "scene": "lee-flat", "points": [
+      {"settings": {"max_steps": "8"}, "metrics": {"image.rms": 0.2, "cost.evals_per_pixel": 11}},
+      {"settings": {"max_steps": "64"}, "metrics": {"image.rms": 0.02, "cost.evals_per_pixel": 35}}]})";
+  const std::string b = R"({"kind": "sweep", "scene": "lee-flat", "points": [
+      {"settings": {"max_steps": "8"}, "metrics": {"image.rms": 0.2, "cost.evals_per_pixel": 11}},
+      {"settings": {"max_steps": "64"}, "metrics": {"image.rms": 0.02, "cost.evals_per_pixel": 40}}]})";
+  const auto c = compare(a, b);
+  EXPECT_EQ(change(c, "lee-flat [max_steps=64]: cost.evals_per_pixel").verdict, Verdict::regression);
+  EXPECT_EQ(change(c, "lee-flat [max_steps=8]: cost.evals_per_pixel").verdict, Verdict::same);
+  EXPECT_THROW(compare(a, validate_file(0, 40, 1, true)), ResultFileError);  // different kinds
+}
+
+TEST(Compare, BadFilesAndTolerancesNameTheProblem) {
+  const auto message = [](const std::string& text) {
+    try {
+      flatten_results(text, "r.json");
+    } catch (const ResultFileError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("{not json").find("r.json: not JSON"), std::string::npos);
+  EXPECT_NE(message(R"({"kind": "render"})").find("\"kind\" must be"), std::string::npos);
+  EXPECT_NE(message(R"({"kind": "validate", "results": [{"scene": "a", "metrics": {"x": "high"}, "checks": []}]})")
+                .find("r.json: results[0].metrics.x: expected a number"),
+            std::string::npos);
+  EXPECT_THROW(parse_tolerance("cost.seconds"), ResultFileError);
+  EXPECT_THROW(parse_tolerance("cost.seconds=-1"), ResultFileError);
+}
+
+}  // namespace
+}  // namespace marchcheck::reports

@@ -1,0 +1,102 @@
+// Parameter sweeps: the cartesian product, cost beside accuracy, the Pareto front and the cheapest point that
+// meets a target.
+#include "marchcheck/sdf/builtin_scenes.hpp"
+#include "marchcheck/validation/sweep.hpp"
+
+#include <gtest/gtest.h>
+
+namespace marchcheck::validation {
+namespace {
+
+// Small enough for a fast test: the study's trends hold at this ray count (lee-flat's sky and ground fill it).
+SweepOptions small_sweep() {
+  SweepOptions o;
+  o.repeat = 1;
+  o.render_width = 64;
+  o.validate.rays_x = 32;
+  o.validate.rays_y = 18;
+  o.validate.image_width = 96;
+  return o;
+}
+
+double at(const SweepPoint& p, const std::string& name) { return p.metrics.at(name); }
+
+TEST(Sweep, MoreStepsCostMoreAndLeaveFewerRaysUndecidedOnLeeFlat) {
+  const SweepResult r =
+      sweep(sdf::builtin_scene("lee-flat"), {SweepAxis{"max_steps", {"8", "32", "128", "256"}}}, small_sweep());
+  ASSERT_EQ(r.points.size(), 4u);
+  for (size_t i = 1; i < r.points.size(); ++i) {
+    EXPECT_GT(at(r.points[i], "cost.evals_per_pixel"), at(r.points[i - 1], "cost.evals_per_pixel")) << i;
+    EXPECT_LT(at(r.points[i], "hit.undecided"), at(r.points[i - 1], "hit.undecided")) << i;
+    EXPECT_LT(at(r.points[i], "image.rms"), at(r.points[i - 1], "image.rms")) << i;
+  }
+  // Cheapest and most accurate are both undominated; error falls strictly, so every point is on the front.
+  for (const auto& p : r.points) EXPECT_TRUE(p.pareto_evals);
+  EXPECT_EQ(r.points[0].settings, (std::vector<std::pair<std::string, std::string>>{{"max_steps", "8"}}));
+}
+
+TEST(Sweep, RelaxedTracingSavesEvaluationsAndEveryCombinationIsRun) {
+  const SweepResult r = sweep(sdf::builtin_scene("lee-flat"),
+                              {SweepAxis{"marcher", {"sphere", "relaxed"}}, SweepAxis{"relaxation", {"1.2", "1.6"}}},
+                              small_sweep());
+  ASSERT_EQ(r.points.size(), 4u);
+  EXPECT_EQ(r.points[1].settings[0].second, "sphere");  // the last axis varies fastest
+  EXPECT_EQ(r.points[1].settings[1].second, "1.6");
+  // Sphere tracing ignores the relaxation; relaxed tracing at 1.6 spends fewer evaluations (lee-flat's long
+  // grazing ground rays gain most: >= 10% measured 18%).
+  EXPECT_EQ(at(r.points[0], "cost.evals_per_pixel"), at(r.points[1], "cost.evals_per_pixel"));
+  EXPECT_LT(at(r.points[3], "cost.evals_per_pixel"), 0.9 * at(r.points[0], "cost.evals_per_pixel"));
+}
+
+SweepPoint point(double error, double evals, double seconds) {
+  SweepPoint p;
+  p.metrics = {{"image.rms", error}, {"cost.evals_per_pixel", evals}, {"cost.seconds", seconds}};
+  return p;
+}
+
+TEST(Sweep, TheParetoFrontLeavesOutDominatedPoints) {
+  std::vector<SweepPoint> pts = {point(0.1, 10, 1), point(0.05, 20, 0.5), point(0.08, 25, 2), point(0.05, 20, 3)};
+  mark_pareto(pts, "image.rms");
+  EXPECT_TRUE(pts[0].pareto_evals);
+  EXPECT_TRUE(pts[1].pareto_evals);
+  EXPECT_FALSE(pts[2].pareto_evals);  // more error and more evaluations than pts[1]
+  EXPECT_TRUE(pts[3].pareto_evals);   // ties pts[1] on both axes: neither dominates
+  EXPECT_FALSE(pts[0].pareto_seconds);  // pts[1] is faster and more accurate
+  EXPECT_TRUE(pts[1].pareto_seconds);
+  EXPECT_FALSE(pts[3].pareto_seconds);
+  // A point without the error metric is never on the front.
+  std::vector<SweepPoint> missing = {point(0.1, 10, 1)};
+  missing[0].metrics.erase("image.rms");
+  mark_pareto(missing, "image.rms");
+  EXPECT_FALSE(missing[0].pareto_evals);
+}
+
+TEST(Sweep, NamesTheCheapestCombinationMeetingTheTarget) {
+  SweepOptions o = small_sweep();
+  o.targets = {SweepTarget{"hit.undecided", 0.05}};
+  const SweepResult r = sweep(sdf::builtin_scene("lee-flat"), {SweepAxis{"max_steps", {"256", "8", "128"}}}, o);
+  ASSERT_TRUE(r.cheapest_meeting.has_value());
+  EXPECT_EQ(r.points[*r.cheapest_meeting].settings[0].second, "128");
+  EXPECT_FALSE(r.points[1].meets_targets);
+  o.targets = {SweepTarget{"hit.undecided", -1}};  // nothing can meet it
+  EXPECT_FALSE(sweep(sdf::builtin_scene("crum-torus"), {SweepAxis{"max_steps", {"8"}}}, o).cheapest_meeting);
+}
+
+TEST(Sweep, BadAxesAndTargetsAreRejectedBeforeAnyWork) {
+  EXPECT_THROW(parse_sweep_axis("max_steps"), sdf::SceneError);
+  EXPECT_THROW(parse_sweep_axis("max_steps=8,,16"), sdf::SceneError);
+  EXPECT_THROW(parse_sweep_target("hit.undecided=lots"), sdf::SceneError);
+  EXPECT_THROW(parse_sweep_target("=1"), sdf::SceneError);
+  EXPECT_EQ(parse_sweep_target("hit.surface_dist_max=1e-3").value, 1e-3);
+  const auto axis = parse_sweep_axis("normal=central,tetra");
+  EXPECT_EQ(axis.values, (std::vector<std::string>{"central", "tetra"}));
+  try {
+    sweep(sdf::builtin_scene("lee-flat"), {SweepAxis{"max_steps", {"8", "many"}}}, small_sweep());
+    FAIL() << "a bad value must throw";
+  } catch (const sdf::SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("--vary max_steps=many"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace marchcheck::validation

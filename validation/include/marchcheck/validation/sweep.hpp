@@ -1,0 +1,64 @@
+// Parameter sweeps: every combination of the given settings, each with its accuracy (the validate metrics)
+// and its cost (evaluations per pixel, exact; seconds, the median of repeated renders), and the Pareto front
+// of error against cost.
+#pragma once
+
+#include "marchcheck/sdf/scene.hpp"
+#include "marchcheck/validation/validate.hpp"
+
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace marchcheck::validation {
+
+struct SweepAxis {
+  std::string key;                  // any key sdf::apply_setting accepts
+  std::vector<std::string> values;  // as text, applied in order
+};
+// "KEY=V1,V2,..."; throws sdf::SceneError naming the argument when it is malformed.
+SweepAxis parse_sweep_axis(const std::string& text);
+
+// METRIC=VALUE: a combination meets the target when its metric is at most VALUE.
+struct SweepTarget {
+  std::string metric;
+  double value = 0;
+};
+SweepTarget parse_sweep_target(const std::string& text);
+
+struct SweepOptions {
+  std::string error_metric = "image.rms";  // the error axis of the Pareto front
+  int repeat = 3;                          // timed renders per combination; seconds is their median
+  int render_width = 640;                  // width of the timed render (the scene's own when smaller)
+  std::vector<SweepTarget> targets;
+  ValidateOptions validate;
+  std::function<void(size_t done, size_t total)> progress;
+};
+
+struct SweepPoint {
+  std::vector<std::pair<std::string, std::string>> settings;  // key, value in axis order
+  std::map<std::string, double> metrics;  // validate's metrics; cost.* from the timed render
+  bool pass = false;                      // every check passed
+  bool pareto_evals = false;              // no other point has both less error and fewer evaluations
+  bool pareto_seconds = false;            // the same against seconds
+  bool meets_targets = false;
+};
+
+struct SweepResult {
+  std::string scene;
+  std::vector<SweepAxis> axes;
+  std::string error_metric;
+  std::vector<SweepTarget> targets;
+  std::vector<SweepPoint> points;          // the cartesian product, the last axis varying fastest
+  std::optional<size_t> cheapest_meeting;  // fewest evaluations among the points meeting every target
+};
+
+// Throws sdf::SceneError when a key or value does not apply to the scene (before any work is done).
+SweepResult sweep(const sdf::Scene& scene, const std::vector<SweepAxis>& axes, const SweepOptions& options = {});
+
+// Marks which points no other point dominates on (error, cost); points without the error metric are never on it.
+void mark_pareto(std::vector<SweepPoint>& points, const std::string& error_metric);
+
+}  // namespace marchcheck::validation

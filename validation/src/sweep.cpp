@@ -1,0 +1,130 @@
+#include "marchcheck/validation/sweep.hpp"
+
+#include "marchcheck/march/render.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <limits>
+
+namespace marchcheck::validation {
+
+namespace {
+
+std::vector<std::string> split(const std::string& text, char sep) {
+  std::vector<std::string> parts;
+  size_t start = 0;
+  for (size_t comma = text.find(sep); comma != std::string::npos; comma = text.find(sep, start)) {
+    parts.push_back(text.substr(start, comma - start));
+    start = comma + 1;
+  }
+  parts.push_back(text.substr(start));
+  return parts;
+}
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+double metric_or_nan(const SweepPoint& p, const std::string& name) {
+  const auto it = p.metrics.find(name);
+  return it == p.metrics.end() ? std::numeric_limits<double>::quiet_NaN() : it->second;
+}
+
+}  // namespace
+
+SweepAxis parse_sweep_axis(const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+    throw sdf::SceneError("--vary " + text + ": expected KEY=V1,V2,...");
+  SweepAxis axis{text.substr(0, eq), split(text.substr(eq + 1), ',')};
+  for (const auto& v : axis.values)
+    if (v.empty()) throw sdf::SceneError("--vary " + text + ": empty value in the list");
+  return axis;
+}
+
+SweepTarget parse_sweep_target(const std::string& text) {
+  const auto eq = text.find('=');
+  SweepTarget target;
+  if (eq != std::string::npos && eq > 0) {
+    target.metric = text.substr(0, eq);
+    const char* first = text.data() + eq + 1;
+    const char* last = text.data() + text.size();
+    const auto [end, ec] = std::from_chars(first, last, target.value);
+    if (ec == std::errc() && end == last && first != last && std::isfinite(target.value)) return target;
+  }
+  throw sdf::SceneError("--target " + text + ": expected METRIC=NUMBER, e.g. hit.surface_dist_max=1e-3");
+}
+
+void mark_pareto(std::vector<SweepPoint>& points, const std::string& error_metric) {
+  const auto front = [&](const std::string& cost, bool SweepPoint::*mark) {
+    for (auto& p : points) {
+      const double e = metric_or_nan(p, error_metric), c = metric_or_nan(p, cost);
+      p.*mark = std::isfinite(e) && std::isfinite(c) && std::none_of(points.begin(), points.end(), [&](const SweepPoint& q) {
+        const double qe = metric_or_nan(q, error_metric), qc = metric_or_nan(q, cost);
+        return qe <= e && qc <= c && (qe < e || qc < c);
+      });
+    }
+  };
+  front("cost.evals_per_pixel", &SweepPoint::pareto_evals);
+  front("cost.seconds", &SweepPoint::pareto_seconds);
+}
+
+SweepResult sweep(const sdf::Scene& scene, const std::vector<SweepAxis>& axes, const SweepOptions& options) {
+  for (const auto& axis : axes) {
+    sdf::Scene probe = scene;
+    for (const auto& v : axis.values) try {
+        sdf::apply_setting(probe, axis.key, v);
+      } catch (const sdf::SceneError& e) {
+        throw sdf::SceneError(std::string("--vary ") + e.what());
+      }
+  }
+  SweepResult result{scene.name, axes, options.error_metric, options.targets, {}, std::nullopt};
+  size_t total = 1;
+  for (const auto& axis : axes) total *= axis.values.size();
+  for (size_t index = 0; index < total; ++index) {
+    SweepPoint point;
+    sdf::Scene s = scene;
+    size_t rest = index;
+    std::vector<size_t> digits(axes.size());
+    for (size_t a = axes.size(); a-- > 0;) {
+      digits[a] = rest % axes[a].values.size();
+      rest /= axes[a].values.size();
+    }
+    for (size_t a = 0; a < axes.size(); ++a) {
+      point.settings.emplace_back(axes[a].key, axes[a].values[digits[a]]);
+      sdf::apply_setting(s, axes[a].key, axes[a].values[digits[a]]);
+    }
+    const SceneResult validated = validate_scene(s, options.validate);
+    point.metrics = validated.metrics;
+    point.pass = validated.pass();
+    const sdf::Scene timed = sdf::scaled_to_width(s, std::min(options.render_width, s.width));
+    std::vector<double> seconds;
+    for (int r = 0; r < std::max(1, options.repeat); ++r) {
+      const march::RenderResult render = march::render(timed);
+      if (r == 0)
+        for (const auto& [k, v] : march::cost_metrics(render)) point.metrics[k] = v;
+      seconds.push_back(render.seconds);
+    }
+    point.metrics["cost.seconds"] = median(seconds);
+    point.meets_targets = std::all_of(options.targets.begin(), options.targets.end(), [&](const SweepTarget& t) {
+      return metric_or_nan(point, t.metric) <= t.value;
+    });
+    result.points.push_back(std::move(point));
+    if (options.progress) options.progress(index + 1, total);
+  }
+  mark_pareto(result.points, options.error_metric);
+  if (!options.targets.empty()) {
+    for (size_t i = 0; i < result.points.size(); ++i) {
+      if (!result.points[i].meets_targets) continue;
+      if (!result.cheapest_meeting || metric_or_nan(result.points[i], "cost.evals_per_pixel") <
+                                          metric_or_nan(result.points[*result.cheapest_meeting], "cost.evals_per_pixel"))
+        result.cheapest_meeting = i;
+    }
+  }
+  return result;
+}
+
+}  // namespace marchcheck::validation
