@@ -1,9 +1,10 @@
 #include "marchcheck/reports/compare.hpp"
 
+#include "marchcheck/validation/sweep.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -82,15 +83,8 @@ FlatResults flatten_results(const std::string& json_text, const std::string& sou
 }
 
 Tolerance parse_tolerance(const std::string& text) {
-  const auto eq = text.find('=');
-  Tolerance t;
-  if (eq != std::string::npos && eq > 0) {
-    t.pattern = text.substr(0, eq);
-    const char* first = text.data() + eq + 1;
-    const char* last = text.data() + text.size();
-    const auto [end, ec] = std::from_chars(first, last, t.relative);
-    if (ec == std::errc() && end == last && first != last && t.relative >= 0 && std::isfinite(t.relative)) return t;
-  }
+  if (const auto parsed = validation::parse_metric_number(text); parsed && parsed->value >= 0)
+    return Tolerance{parsed->metric, parsed->value};
   throw ResultFileError("--tolerance " + text + ": expected METRIC=REL with REL >= 0 (METRIC may end in *)");
 }
 

@@ -45,16 +45,19 @@ SweepAxis parse_sweep_axis(const std::string& text) {
   return axis;
 }
 
-SweepTarget parse_sweep_target(const std::string& text) {
+std::optional<SweepTarget> parse_metric_number(const std::string& text) {
   const auto eq = text.find('=');
-  SweepTarget target;
-  if (eq != std::string::npos && eq > 0) {
-    target.metric = text.substr(0, eq);
-    const char* first = text.data() + eq + 1;
-    const char* last = text.data() + text.size();
-    const auto [end, ec] = std::from_chars(first, last, target.value);
-    if (ec == std::errc() && end == last && first != last && std::isfinite(target.value)) return target;
-  }
+  if (eq == std::string::npos || eq == 0) return std::nullopt;
+  SweepTarget target{text.substr(0, eq), 0};
+  const char* first = text.data() + eq + 1;
+  const char* last = text.data() + text.size();
+  const auto [end, ec] = std::from_chars(first, last, target.value);
+  if (ec != std::errc() || end != last || first == last || !std::isfinite(target.value)) return std::nullopt;
+  return target;
+}
+
+SweepTarget parse_sweep_target(const std::string& text) {
+  if (auto target = parse_metric_number(text)) return *target;
   throw sdf::SceneError("--target " + text + ": expected METRIC=NUMBER, e.g. hit.surface_dist_max=1e-3");
 }
 

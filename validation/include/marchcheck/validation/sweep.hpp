@@ -27,6 +27,8 @@ struct SweepTarget {
   double value = 0;
 };
 SweepTarget parse_sweep_target(const std::string& text);
+// "METRIC=NUMBER" with a finite number, or nothing; shared by every option of that shape.
+std::optional<SweepTarget> parse_metric_number(const std::string& text);
 
 struct SweepOptions {
   std::string error_metric = "image.rms";  // the error axis of the Pareto front
