@@ -2,6 +2,7 @@
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/sdf/tape.hpp"
+#include "marchcheck/validation/mesh_loader.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,9 +18,9 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
 class BuiltinRoundTrip : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BuiltinRoundTrip, ExportThenLoadGivesTheSameSceneBitForBit) {
-  const Scene original = builtin_scene(GetParam());
+  const Scene original = builtin_scene(GetParam(), validation::mesh_loader());
   const std::string text = scene_to_json(original);
-  const Scene loaded = scene_from_json(text, GetParam() + ".json");
+  const Scene loaded = scene_from_json(text, GetParam() + ".json", validation::mesh_loader());
   EXPECT_EQ(scene_to_json(loaded), text);
   const Tape a = compile(original.root, original.time), b = compile(loaded.root, loaded.time);
   EXPECT_TRUE(same_bits(a.constants, b.constants));
