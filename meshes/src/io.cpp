@@ -168,7 +168,13 @@ Mesh load_mesh(const std::string& path) {
 
 Mesh load_mesh_source(const std::string& source) {
   constexpr std::string_view kProcedural = "procedural:";
-  if (source.starts_with(kProcedural)) return procedural_mesh(source.substr(kProcedural.size())).mesh;
+  if (source.starts_with(kProcedural)) {
+    try {
+      return procedural_mesh(source.substr(kProcedural.size())).mesh;
+    } catch (const MeshError& e) {
+      throw MeshError(std::string(kProcedural) + e.what());  // the spec and the problem, named as the scene names it
+    }
+  }
   return load_mesh(source);
 }
 

@@ -450,7 +450,7 @@ Scene mesh_icosphere() {
 // Sharp convex and concave edges, and vertices where coplanar triangles fan out at many angles: where a face's
 // own normal gives the wrong sign and the pseudonormals do not.
 Scene mesh_box() {
-  Scene s = base("mesh-box", "Box mesh with one octant cut away (36 triangles, exact mesh distance), turned "
+  Scene s = base("mesh-box", "Box mesh with one octant cut away (48 triangles, exact mesh distance), turned "
                              "25 degrees about y over a ground plane, hard shadows");
   const int m = add_material(s, "mesh", {0.7, 0.75, 0.8});
   Node shape = make(Op::rotate, {{"axis", {0, 1, 0}}, {"angle_deg", {25}}},

@@ -122,20 +122,23 @@ Spans MeshReference::spans(glm::dvec3 o, glm::dvec3 d) const {
   }
   std::sort(crossings.begin(), crossings.end(), [](const Crossing& a, const Crossing& b) { return a.t < b.t; });
   // Crossings at one point (an edge or vertex shared by several faces) form a group; between groups the line is
-  // wholly inside or outside, which the exact side test at the middle decides. Edge and vertex crossings
-  // counted once per face, and lines that only touch the surface, need no parity rule that way.
+  // wholly inside or outside. When every group is one face crossed inside, the line alternates out, in, out;
+  // otherwise (an edge or vertex crossed, counted once per face, or only touched) the exact side test at the
+  // middle of each gap decides.
   struct Group {
     double t;
     glm::dvec3 entry, exit;  // the face normals most against and most along the line
+    int faces;
   };
   std::vector<Group> groups;
   double most_against = 0, most_along = 0;
   for (const auto& c : crossings) {
     const double along = glm::dot(c.n, d);
     if (groups.empty() || c.t > groups.back().t + 1e-12 * (1 + std::abs(groups.back().t))) {
-      groups.push_back({c.t, c.n, c.n});
+      groups.push_back({c.t, c.n, c.n, 0});
       most_against = most_along = along;
     }
+    ++groups.back().faces;
     if (along < most_against) {
       groups.back().entry = c.n;
       most_against = along;
@@ -145,10 +148,12 @@ Spans MeshReference::spans(glm::dvec3 o, glm::dvec3 d) const {
       most_along = along;
     }
   }
+  const bool alternating = groups.size() % 2 == 0 &&
+                           std::all_of(groups.begin(), groups.end(), [](const Group& g) { return g.faces == 1; });
   Spans out;
   for (size_t k = 0; k + 1 < groups.size(); ++k) {
     const glm::dvec3 middle = o + d * (0.5 * (groups[k].t + groups[k + 1].t));
-    if ((*impl_->inside)(point(middle)) != CGAL::ON_BOUNDED_SIDE) continue;
+    if (alternating ? k % 2 == 1 : (*impl_->inside)(point(middle)) != CGAL::ON_BOUNDED_SIDE) continue;
     if (!out.empty() && out.back().t1 == groups[k].t) {
       out.back().t1 = groups[k + 1].t;  // inside on both sides of a touching point
       out.back().n1 = groups[k + 1].exit;

@@ -31,7 +31,7 @@ ProceduralMesh torus(double major, double minor, int rings, int sides);
 ProceduralMesh box(glm::dvec3 half_size);
 
 // The same box with its +x +y +z octant cut away: sharp convex and concave edges, and vertices where coplanar
-// triangles meet at many angles. 36 triangles, exact (max_error = 0).
+// triangles meet at many angles. 48 triangles, exact (max_error = 0).
 ProceduralMesh notched_box(glm::dvec3 half_size);
 
 // A generator by name and arguments: "icosphere(R,N)", "uv_sphere(R,STACKS,SLICES)", "torus(MAJOR,MINOR,RINGS,SIDES)",
