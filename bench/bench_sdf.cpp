@@ -4,6 +4,7 @@
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/sdf/tape.hpp"
+#include "marchcheck/validation/mesh_loader.hpp"
 
 #include <benchmark/benchmark.h>
 #include <glm/glm.hpp>
@@ -61,7 +62,7 @@ BENCHMARK(BM_LeeFlatJsonTape);
 const bool registered = [] {
   for (const std::string& name : sdf::builtin_scene_names()) {
     benchmark::RegisterBenchmark(("BM_SceneTape/" + name).c_str(), [name](benchmark::State& state) {
-      const sdf::Scene scene = sdf::builtin_scene(name);
+      const sdf::Scene scene = sdf::builtin_scene(name, marchcheck::validation::mesh_loader());
       const sdf::Tape tape = sdf::compile(scene.root, scene.time);  // time: animated scenes
       run_evals(state, [&](glm::vec3 p) { return sdf::evaluate<float>(tape, p); });
     });

@@ -1,5 +1,6 @@
 #include "marchcheck/meshes/io.hpp"
 
+#include "marchcheck/meshes/procedural.hpp"
 #include "openmesh_io.hpp"
 #include "preflight.hpp"
 
@@ -163,6 +164,18 @@ Mesh load_mesh(const std::string& path) {
   Mesh mesh = to_triangles(path, polygons);
   if (format == Format::stl) merge_identical_vertices(mesh);
   return mesh;
+}
+
+Mesh load_mesh_source(const std::string& source) {
+  constexpr std::string_view kProcedural = "procedural:";
+  if (source.starts_with(kProcedural)) {
+    try {
+      return procedural_mesh(source.substr(kProcedural.size())).mesh;
+    } catch (const MeshError& e) {
+      throw MeshError(std::string(kProcedural) + e.what());  // the spec and the problem, named as the scene names it
+    }
+  }
+  return load_mesh(source);
 }
 
 void save_mesh(const Mesh& mesh, const std::string& path) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <unordered_map>
 
@@ -172,6 +173,96 @@ ProceduralMesh box(glm::dvec3 half_size) {
   mesh.triangles = {{0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}, {0, 1, 5}, {0, 5, 4},
                     {2, 6, 7}, {2, 7, 3}, {0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}};
   return {std::move(mesh), 0};
+}
+
+ProceduralMesh notched_box(glm::dvec3 half_size) {
+  require(positive(half_size.x) && positive(half_size.y) && positive(half_size.z),
+          "notched_box: half sizes must be positive and finite");
+  // Seven of the eight half-size cells of the box; a square face of a cell is on the surface where the
+  // neighbouring cell is empty or outside, split into two triangles.
+  auto filled = [](glm::ivec3 c) {
+    return c.x >= 0 && c.y >= 0 && c.z >= 0 && c.x < 2 && c.y < 2 && c.z < 2 && !(c.x == 1 && c.y == 1 && c.z == 1);
+  };
+  Mesh mesh;
+  std::unordered_map<int, std::uint32_t> index;  // grid point (x + 3y + 9z) -> vertex
+  auto vertex = [&](glm::ivec3 g) {
+    auto [it, added] = index.emplace(g.x + 3 * g.y + 9 * g.z, static_cast<std::uint32_t>(mesh.vertices.size()));
+    if (added) mesh.vertices.push_back(-half_size + dvec3(g) * half_size);
+    return it->second;
+  };
+  for (int z = 0; z < 2; ++z)
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 2; ++x) {
+        const glm::ivec3 c(x, y, z);
+        if (!filled(c)) continue;
+        for (int axis = 0; axis < 3; ++axis)
+          for (int side : {-1, 1}) {
+            glm::ivec3 n = c;
+            n[axis] += side;
+            if (filled(n)) continue;
+            // Corners in the order (u0 v0), (u1 v0), (u1 v1), (u0 v1) run counter-clockwise about +axis, since
+            // e_u x e_v = e_axis for the cyclic u, v.
+            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            std::uint32_t q[4];
+            for (int k = 0; k < 4; ++k) {
+              glm::ivec3 g = c;
+              g[axis] += side > 0 ? 1 : 0;
+              g[u] += (k == 1 || k == 2) ? 1 : 0;
+              g[v] += (k >= 2) ? 1 : 0;
+              q[k] = vertex(g);
+            }
+            if (side < 0) std::swap(q[1], q[3]);
+            mesh.triangles.push_back({q[0], q[1], q[2]});
+            mesh.triangles.push_back({q[0], q[2], q[3]});
+          }
+      }
+  return {std::move(mesh), 0};
+}
+
+ProceduralMesh procedural_mesh(const std::string& spec) {
+  const auto open = spec.find('('), close = spec.rfind(')');
+  if (open == std::string::npos || close != spec.size() - 1)
+    throw MeshError(spec + ": expected NAME(ARGUMENTS), e.g. icosphere(1,4)");
+  const std::string name = spec.substr(0, open);
+  std::vector<double> a;
+  std::istringstream args(spec.substr(open + 1, close - open - 1));
+  for (std::string item; std::getline(args, item, ',');) {
+    char* end = nullptr;
+    a.push_back(std::strtod(item.c_str(), &end));
+    if (end == item.c_str() || *end != 0) throw MeshError(spec + ": '" + item + "' is not a number");
+  }
+  auto need = [&](size_t n) {
+    if (a.size() != n) throw MeshError(name + " takes " + std::to_string(n) + " arguments");
+  };
+  auto whole = [&](double x) {
+    if (x != std::floor(x) || std::abs(x) > 1e6) throw MeshError(std::to_string(x) + " is not a count");
+    return static_cast<int>(x);
+  };
+  try {
+    if (name == "icosphere") {
+      need(2);
+      return icosphere(a[0], whole(a[1]));
+    }
+    if (name == "uv_sphere") {
+      need(3);
+      return uv_sphere(a[0], whole(a[1]), whole(a[2]));
+    }
+    if (name == "torus") {
+      need(4);
+      return torus(a[0], a[1], whole(a[2]), whole(a[3]));
+    }
+    if (name == "box") {
+      need(3);
+      return box({a[0], a[1], a[2]});
+    }
+    if (name == "notched_box") {
+      need(3);
+      return notched_box({a[0], a[1], a[2]});
+    }
+  } catch (const MeshError& e) {
+    throw MeshError(spec + ": " + e.what());
+  }
+  throw MeshError(spec + ": unknown generator '" + name + "' (icosphere, uv_sphere, torus, box, notched_box)");
 }
 
 }  // namespace marchcheck::meshes

@@ -7,6 +7,7 @@
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/validation/convergence.hpp"
+#include "marchcheck/validation/mesh_loader.hpp"
 #include "marchcheck/validation/sweep.hpp"
 #include "marchcheck/validation/validate.hpp"
 
@@ -464,7 +465,7 @@ int run_report(const ReportCommand& cmd, std::ostream& out, std::ostream& err) {
   if (dir.has_filename() == false) dir = dir.parent_path();
   try {
     for (const auto& name : cmd.scenes.empty() ? sdf::builtin_scene_names() : cmd.scenes) {
-      scenes.push_back(sdf::resolve_scene(name));
+      scenes.push_back(sdf::resolve_scene(name, validation::mesh_loader()));
       apply_sets(scenes.back(), cmd.sets);
       sdf::compile(scenes.back().root, scenes.back().time);
     }

@@ -1,5 +1,7 @@
 #include "marchcheck/sdf/node.hpp"
 
+#include "marchcheck/sdf/mesh_distance.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -53,6 +55,9 @@ std::vector<OpInfo> build_table() {
       {Op::mandelbulb, "mandelbulb", 3, 0, 0, 0,
        {P{"power", 1, {8}, 2, 16}, P{"iterations", 1, {8}, 1, 64}, P{"bailout", 1, {2}, 1.0001, 1e3}},
        "power-N Mandelbulb distance estimator"},
+      {Op::mesh, "mesh", 3, 0, 0, 0, {},
+       "closed, consistently oriented triangle mesh (\"mesh\": a file, or procedural:NAME(ARGS)): exact signed "
+       "distance"},
       {Op::circle, "circle", 2, 0, 0, 0, {P{"center", 2, {0, 0}}, P{"radius", 1, {}, kPositive}}, "2D disc"},
       {Op::rect, "rect", 2, 0, 0, 0, {P{"center", 2, {0, 0}}, P{"half_size", 2, {}, kPositive}}, "2D rectangle"},
       {Op::segment, "segment", 2, 0, 0, 0, {P{"a", 2, {}}, P{"b", 2, {}}, P{"radius", 1, {0}, 0}},
@@ -73,6 +78,10 @@ std::vector<OpInfo> build_table() {
       {Op::onion, "onion", 3, 1, 1, 3, {P{"thickness", 1, {}, kPositive}}, "|d| - thickness (a shell)"},
       {Op::displace, "displace", 3, 1, 1, 3, {P{"amplitude", 1, {}}, P{"frequency", 1, {}, 0}},
        "d + amplitude * sin(f x) sin(f y) sin(f z)"},
+      {Op::grid, "grid", 3, 1, 1, 3, {P{"resolution", 1, {64}, 2, 256}, P{"padding", 1, {0.1}, 0}},
+       "the child sampled on a regular grid (resolution samples along the longest side of its bounds grown by "
+       "padding) and interpolated trilinearly; outside the grid, the value at the nearest grid point plus the "
+       "distance to it"},
       {Op::translate, "translate", 3, 1, 1, 3, {P{"offset", 3, {}}}, "moves the child by offset"},
       {Op::rotate, "rotate", 3, 1, 1, 3, {P{"axis", 3, {}}, P{"angle_deg", 1, {}}},
        "rotates the child about axis (through the origin)"},
@@ -166,6 +175,11 @@ Node subtract(Node a, Node b) { return make(Op::subtraction, {}, {std::move(a), 
 Node smooth_union(double k, std::vector<Node> children) {
   return make(Op::smooth_union, {{"k", {k}}}, std::move(children));
 }
+Node mesh(std::string source, int material) {
+  Node n = make(Op::mesh, {}, {}, material);
+  n.source = std::move(source);
+  return n;
+}
 
 bool Box3::is_finite() const {
   return std::isfinite(lo.x) && std::isfinite(lo.y) && std::isfinite(lo.z) && std::isfinite(hi.x) &&
@@ -242,6 +256,17 @@ ModelTransform model_transform(const Node& node, double time) {
           node.vec3("translate_sin") * std::sin(time)};
 }
 
+GridLayout grid_layout(const Node& grid, const Box3& child_bounds) {
+  const double pad = grid.scalar("padding");
+  const glm::dvec3 extent = child_bounds.size() + 2 * pad;
+  const double cell = std::max({extent.x, extent.y, extent.z}) / (grid.scalar("resolution") - 1);
+  GridLayout g;
+  g.cell = cell;
+  for (int i = 0; i < 3; ++i) g.count[i] = std::max(2, static_cast<int>(std::ceil(extent[i] / cell - 1e-9)) + 1);
+  g.lo = child_bounds.center() - glm::dvec3(g.count - 1) * (cell / 2);
+  return g;
+}
+
 FieldInfo derive_info(const Node& node, double time) {
   std::vector<FieldInfo> cs;
   for (const auto& child : node.children) cs.push_back(derive_info(child, time));
@@ -301,6 +326,10 @@ FieldInfo derive_info(const Node& node, double time) {
     case Op::mandelbulb:
       return {Kind::unbounded, 2, sym(glm::dvec3(1.25)),
               "escape-time distance estimate 0.5 log(r) r / dr: not a proven bound; stepped at half"};
+    case Op::mesh:
+      return {Kind::exact, 1, node.mesh ? node.mesh->bounds() : Box3{},
+              "closed, consistently oriented mesh: distance to the closest triangle, sign by angle-weighted "
+              "pseudonormals"};
     case Op::circle: {
       const double r = node.scalar("radius");
       const auto c = node.param("center");
@@ -365,6 +394,14 @@ FieldInfo derive_info(const Node& node, double time) {
       const double a = std::abs(node.scalar("amplitude")), w = node.scalar("frequency");
       return {Kind::unbounded, child.lipschitz + a * w, expand(child.bounds, a),
               "displacement adds amplitude * frequency to the Lipschitz bound"};
+    }
+    case Op::grid: {
+      // Along each axis the interpolant's slope is a weighted mean of sample differences over one cell, each at
+      // most the child's L; outside the grid the added distance has slope 1. So |grad| <= sqrt(3) max(L, 1).
+      // Interpolation is no bound: between samples it can exceed the distance (by up to sqrt(3)/2 of a cell
+      // for an exact child).
+      return {Kind::unbounded, std::sqrt(3.0) * std::max(child.lipschitz, 1.0), grid_layout(node, child.bounds).box(),
+              "trilinear interpolation of samples: each axis's slope at most the child's L, so |grad| <= sqrt(3) L"};
     }
     case Op::translate: {
       const glm::dvec3 o = node.vec3("offset");
@@ -510,6 +547,9 @@ void validate_into(const Node& node, const std::string& path, std::string& error
     offset += size;
   }
   if (node.op == Op::heightfield && node.params.empty()) error = path + "/octaves: needs at least one pair";
+  if (node.op == Op::mesh && !node.mesh)
+    error = path + "/mesh: '" + node.source + "' is not loaded (scenes with meshes need a mesh loader)";
+
   for (int i = 0; i < n && error.empty(); ++i) {
     const auto& c = node.children[static_cast<size_t>(i)];
     const std::string child_path = path + (info.max_children == 1 ? "/child" : "/children/" + std::to_string(i));
@@ -520,6 +560,8 @@ void validate_into(const Node& node, const std::string& path, std::string& error
     }
     validate_into(c, child_path, error);
   }
+  if (node.op == Op::grid && error.empty() && !derive_info(node.children[0]).bounds.is_finite())
+    error = path + "/child: a grid needs a child with finite bounds";
 }
 
 }  // namespace

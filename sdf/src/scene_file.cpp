@@ -1,9 +1,12 @@
 #include "marchcheck/sdf/scene_file.hpp"
 
+#include "marchcheck/sdf/mesh_distance.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <charconv>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -341,6 +344,7 @@ json node_to_json(const Node& n, const Scene& scene) {
       j[std::string(spec.name)] = json(std::vector<double>(values.begin(), values.end()));
     }
   }
+  if (n.op == Op::mesh) j["mesh"] = n.source;
   if (n.material >= 0) j["material"] = scene.materials.at(static_cast<size_t>(n.material)).name;
   if (info.max_children == 1) {
     j["child"] = node_to_json(n.children[0], scene);
@@ -352,11 +356,22 @@ json node_to_json(const Node& n, const Scene& scene) {
   return j;
 }
 
-Node node_from_json(const json& j, const std::string& path, const Scene& scene, int depth) {
+// A mesh file named relative to the scene file is found beside it.
+std::string resolve_mesh_source(const std::string& source, const std::string& scene_path) {
+  const std::filesystem::path p(source);
+  if (source.starts_with("procedural:") || p.is_absolute()) return source;
+  return (std::filesystem::absolute(std::filesystem::path(scene_path).parent_path()) / p).lexically_normal().string();
+}
+
+Node node_from_json(const json& j, const std::string& path, const Scene& scene, const std::string& scene_path,
+                    int depth) {
   if (depth > kMaxTreeDepth) fail(path, "the tree nests deeper than " + std::to_string(kMaxTreeDepth) + " levels");
   if (!j.is_object()) fail(path, "expected an object with a \"type\"");
-  if (!j.contains("type") || !j["type"].is_string()) fail(path, "missing \"type\" (a shape or operator name)");
-  const std::string type = j["type"].get<std::string>();
+  // {"mesh": "file.obj"} is short for {"type": "mesh", "mesh": "file.obj"}.
+  const bool mesh_shorthand = !j.contains("type") && j.contains("mesh");
+  if (!mesh_shorthand && (!j.contains("type") || !j["type"].is_string()))
+    fail(path, "missing \"type\" (a shape or operator name)");
+  const std::string type = mesh_shorthand ? "mesh" : j["type"].get<std::string>();
   const OpInfo* info = find_op(type);
   if (!info) {
     std::string names;
@@ -386,6 +401,12 @@ Node node_from_json(const json& j, const std::string& path, const Scene& scene, 
                                 : "expected a non-empty array of number pairs");
     for (size_t i = 0; i < v.size(); ++i) n.params.push_back(number(v[i], where + "/" + std::to_string(i), spec.min, spec.max));
   }
+  if (n.op == Op::mesh) {
+    allowed.push_back("mesh");
+    if (!j.contains("mesh") || !j["mesh"].is_string() || j["mesh"].get<std::string>().empty())
+      fail(path + "/mesh", "expected a mesh file path or a procedural:NAME(ARGS) source");
+    n.source = resolve_mesh_source(j["mesh"].get<std::string>(), scene_path);
+  }
   if (j.contains("material")) {
     if (!j["material"].is_string()) fail(path + "/material", "expected a material name");
     n.material = find_material(scene, j["material"].get<std::string>());
@@ -394,13 +415,14 @@ Node node_from_json(const json& j, const std::string& path, const Scene& scene, 
   if (info->max_children == 1) {
     allowed.push_back("child");
     if (!j.contains("child")) fail(path, type + " needs \"child\"");
-    n.children.push_back(node_from_json(j["child"], path + "/child", scene, depth + 1));
+    n.children.push_back(node_from_json(j["child"], path + "/child", scene, scene_path, depth + 1));
   } else if (info->max_children != 0) {
     allowed.push_back("children");
     if (!j.contains("children") || !j["children"].is_array()) fail(path, type + " needs \"children\" (an array)");
     const json& list = j["children"];
     for (size_t i = 0; i < list.size(); ++i)
-      n.children.push_back(node_from_json(list[i], path + "/children/" + std::to_string(i), scene, depth + 1));
+      n.children.push_back(
+          node_from_json(list[i], path + "/children/" + std::to_string(i), scene, scene_path, depth + 1));
   }
   for (const auto& [key, value] : j.items()) {
     if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
@@ -548,7 +570,40 @@ std::string scene_to_json(const Scene& scene) {
   return j.dump(2) + "\n";
 }
 
-Scene scene_from_json(std::string_view text, const std::string& source) {
+namespace {
+
+void load_node_meshes(Node& n, const MeshLoader& loader, const std::string& path,
+                      std::map<std::string, std::shared_ptr<const MeshDistance>>& loaded) {
+  if (n.op == Op::mesh && !n.mesh) {
+    auto& shared = loaded[n.source];
+    if (!shared) {
+      if (!loader)
+        fail(path + "/mesh", "'" + n.source + "': no mesh loader to read it with (the sdf module reads no mesh formats)");
+      try {
+        shared = std::make_shared<const MeshDistance>(loader(n.source));
+      } catch (const std::exception& e) {
+        const std::string what = e.what();
+        // Loaders' errors name the file already; the mesh checks' errors do not.
+        fail(path + "/mesh", what.find(n.source) != std::string::npos ? what : "'" + n.source + "': " + what);
+      }
+    }
+    n.mesh = shared;
+  }
+  const int max_children = op_info(n.op).max_children;
+  for (size_t i = 0; i < n.children.size(); ++i)
+    load_node_meshes(n.children[i], loader, path + (max_children == 1 ? "/child" : "/children/" + std::to_string(i)),
+                     loaded);
+}
+
+}  // namespace
+
+void load_meshes(Scene& scene, const MeshLoader& loader) {
+  std::map<std::string, std::shared_ptr<const MeshDistance>> loaded;
+  load_node_meshes(scene.root, loader, "/sdf", loaded);
+  if (scene.intended) load_node_meshes(*scene.intended, loader, "/intended_sdf", loaded);
+}
+
+Scene scene_from_json(std::string_view text, const std::string& source, const MeshLoader& meshes) {
   json j;
   try {
     j = json::parse(text.begin(), text.end());
@@ -636,24 +691,24 @@ Scene scene_from_json(std::string_view text, const std::string& source) {
       for (const auto& [key, value] : j["limits"].items()) scene.limits[key] = number(value, "/limits/" + key);
     }
     if (!j.contains("sdf")) fail("", "missing \"sdf\" (the scene's shape tree)");
-    scene.root = node_from_json(j["sdf"], "/sdf", scene, 0);
+    scene.root = node_from_json(j["sdf"], "/sdf", scene, source, 0);
+    if (j.contains("intended_sdf")) scene.intended = node_from_json(j["intended_sdf"], "/intended_sdf", scene, source, 0);
+    load_meshes(scene, meshes);
     if (auto error = validate_tree(scene.root); !error.empty()) throw SceneError("/sdf" + error);
-    if (j.contains("intended_sdf")) {
-      scene.intended = node_from_json(j["intended_sdf"], "/intended_sdf", scene, 0);
+    if (scene.intended)
       if (auto error = validate_tree(*scene.intended); !error.empty()) throw SceneError("/intended_sdf" + error);
-    }
     return scene;
   } catch (const SceneError& e) {
     throw SceneError(source + ": " + e.what());
   }
 }
 
-Scene load_scene_file(const std::string& path) {
+Scene load_scene_file(const std::string& path, const MeshLoader& meshes) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path + ": cannot open the scene file");
   std::ostringstream text;
   text << in.rdbuf();
-  return scene_from_json(text.str(), path);
+  return scene_from_json(text.str(), path, meshes);
 }
 
 }  // namespace marchcheck::sdf

@@ -54,6 +54,19 @@ struct Compiler {
     value_pushed();
   }
 
+  // The child evaluated in double at every grid point, once, here.
+  std::uint32_t sample_grid(const Node& n) {
+    const GridLayout g = grid_layout(n, derive_info(n.children[0], time).bounds);
+    const Tape child = compile(n.children[0], time);
+    const auto offset = push_constants({static_cast<double>(g.count.x), static_cast<double>(g.count.y),
+                                        static_cast<double>(g.count.z), g.lo.x, g.lo.y, g.lo.z, g.cell});
+    for (int z = 0; z < g.count.z; ++z)
+      for (int y = 0; y < g.count.y; ++y)
+        for (int x = 0; x < g.count.x; ++x)
+          tape.constants.push_back(evaluate(child, g.lo + glm::dvec3(x, y, z) * g.cell));
+    return offset;
+  }
+
   void node(const Node& n) {
     const int mat = n.material;
     switch (n.op) {
@@ -96,6 +109,11 @@ struct Compiler {
         return;
       }
       case Op::mandelbulb: primitive(TapeOp::mandelbulb, push_constants(n.params), mat); return;
+      case Op::mesh:
+        tape.meshes.push_back(n.mesh);
+        primitive(TapeOp::mesh, static_cast<std::uint32_t>(tape.meshes.size() - 1), mat);
+        return;
+      case Op::grid: primitive(TapeOp::grid, sample_grid(n), mat); return;
       case Op::circle: primitive(TapeOp::circle, push_constants(n.params), mat); return;
       case Op::rect: primitive(TapeOp::rect, push_constants(n.params), mat); return;
       case Op::segment: {

@@ -61,6 +61,9 @@ TEST_F(Cli, ValidateExitsZeroOnPassOneOnAFailedCheckTwoOnBadInput) {
   std::ifstream json(path("v.json"));
   const std::string text((std::istreambuf_iterator<char>(json)), {});
   EXPECT_NE(text.find("\"hit.false_hit\""), std::string::npos);
+  // A scene with a mesh node: the program passes its mesh loader (mesh-icosphere, slower, is in test_validation).
+  const CommandRun meshes = run("validate mesh-box");
+  EXPECT_EQ(meshes.status, 0) << meshes.output;
   const CommandRun failed = run("validate fogerty-defect-steps");
   EXPECT_EQ(failed.status, 1);
   EXPECT_NE(failed.output.find("hit.undecided"), std::string::npos);
@@ -69,6 +72,7 @@ TEST_F(Cli, ValidateExitsZeroOnPassOneOnAFailedCheckTwoOnBadInput) {
 
 TEST_F(Cli, BadInputExitsTwoWithAMessageAndWritesNothing) {
   std::ofstream(path("broken.json")) << "{\n  \"sdf\": {\"type\": \"sphere\" \"radius\": 1}\n}\n";
+  std::ofstream(path("no-mesh.json")) << R"({"sdf": {"mesh": "gone.obj"}})";
   struct Case {
     std::string args;
     std::string message;
@@ -83,6 +87,8 @@ TEST_F(Cli, BadInputExitsTwoWithAMessageAndWritesNothing) {
       {"render lee-flat --aov colour -o " + path("x.png"), "unknown AOV 'colour'"},
       {"render lee-flat --size 8x8 -o " + path("x.nope"), "x.nope: no image writer"},
       {"frobnicate", "unknown command 'frobnicate'"},
+      {"validate " + path("no-mesh.json"), "no-mesh.json: /sdf/mesh: " + path("gone.obj")},
+      {"render " + path("no-mesh.json") + " -o " + path("x.png"), "no-mesh.json: /sdf/mesh: " + path("gone.obj")},
   };
   for (const auto& c : cases) {
     const CommandRun r = run(c.args);

@@ -1,6 +1,7 @@
 // Procedural meshes: clean topology, outward orientation, and an error bound that holds and is tight, measured
 // both ways (mesh samples against the analytic surface, surface samples against the mesh).
 #include "marchcheck/meshes/checks.hpp"
+#include "marchcheck/meshes/io.hpp"
 #include "marchcheck/meshes/procedural.hpp"
 #include "mesh_test_support.hpp"
 
@@ -163,6 +164,37 @@ TEST(Procedural, BoxIsExact) {
     EXPECT_EQ(std::fabs(v.z), 3);
   }
   EXPECT_EQ(inspect(p.mesh).signed_volume, 48);
+}
+
+TEST(Procedural, NotchedBoxIsAClosedOutwardBoxLessOneOctant) {
+  const ProceduralMesh p = notched_box({1, 2, 3});
+  EXPECT_EQ(p.max_error, 0);
+  EXPECT_EQ(p.mesh.triangles.size(), 48u);  // 24 cell faces on the surface, two triangles each
+  const MeshReport r = inspect(p.mesh);
+  EXPECT_TRUE(r.closed && r.manifold && r.consistently_oriented && r.outward);
+  EXPECT_EQ(r.degenerate_faces, 0);
+  EXPECT_EQ(r.signed_volume, 48 * 7.0 / 8);  // exact in double: sums of products of small integers
+}
+
+TEST(Procedural, SpecsNameTheGeneratorAndSourcesPickFileOrGenerator) {
+  EXPECT_EQ(procedural_mesh("icosphere(2,3)").mesh.vertices, icosphere(2, 3).mesh.vertices);
+  EXPECT_EQ(procedural_mesh("torus(1,0.25,12,6)").mesh.triangles, torus(1, 0.25, 12, 6).mesh.triangles);
+  EXPECT_EQ(procedural_mesh("notched_box(1,2,3)").mesh.vertices, notched_box({1, 2, 3}).mesh.vertices);
+  EXPECT_EQ(load_mesh_source("procedural:box(1,2,3)").vertices, box({1, 2, 3}).mesh.vertices);
+  auto message = [](const std::string& source) {
+    try {
+      load_mesh_source(source);
+    } catch (const MeshError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_EQ(message("procedural:cube(1)"), "procedural:cube(1): unknown generator 'cube' (icosphere, uv_sphere, torus, box, notched_box)");
+  EXPECT_EQ(message("procedural:icosphere(1)"), "procedural:icosphere(1): icosphere takes 2 arguments");
+  EXPECT_EQ(message("procedural:icosphere(1,x)"), "procedural:icosphere(1,x): 'x' is not a number");
+  EXPECT_EQ(message("procedural:icosphere(1,2.5)"), "procedural:icosphere(1,2.5): 2.500000 is not a count");
+  EXPECT_EQ(message("procedural:icosphere"), "procedural:icosphere: expected NAME(ARGUMENTS), e.g. icosphere(1,4)");
+  EXPECT_EQ(message("/no/such/mesh.obj").rfind("/no/such/mesh.obj: ", 0), 0u);
 }
 
 TEST(Procedural, IcosphereErrorQuartersPerSubdivision) {

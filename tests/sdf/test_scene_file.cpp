@@ -1,11 +1,18 @@
 // Scene files: every built-in round-trips bit for bit; bad files name the place and the problem.
+#include "marchcheck/meshes/io.hpp"
+#include "marchcheck/meshes/procedural.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
+#include "marchcheck/sdf/mesh_distance.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/sdf/tape.hpp"
+#include "marchcheck/validation/mesh_loader.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
 
 namespace marchcheck::sdf {
 namespace {
@@ -17,9 +24,9 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
 class BuiltinRoundTrip : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BuiltinRoundTrip, ExportThenLoadGivesTheSameSceneBitForBit) {
-  const Scene original = builtin_scene(GetParam());
+  const Scene original = builtin_scene(GetParam(), validation::mesh_loader());
   const std::string text = scene_to_json(original);
-  const Scene loaded = scene_from_json(text, GetParam() + ".json");
+  const Scene loaded = scene_from_json(text, GetParam() + ".json", validation::mesh_loader());
   EXPECT_EQ(scene_to_json(loaded), text);
   const Tape a = compile(original.root, original.time), b = compile(loaded.root, loaded.time);
   EXPECT_TRUE(same_bits(a.constants, b.constants));
@@ -83,6 +90,70 @@ TEST(SceneFile, DeepNestingIsRefused) {
   for (int i = 0; i < 100; ++i) text += "}";
   text += "}";
   EXPECT_NE(error_of(text).find("nests deeper than 64 levels"), std::string::npos);
+}
+
+// A scene file beside a mesh file, in a folder of its own.
+class MeshScene : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() / ("marchcheck_mesh_scene_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir_);
+    meshes::save_mesh(meshes::notched_box({1, 0.7, 0.6}).mesh, (dir_ / "notched.obj").string());
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& sdf) const {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path) << R"({"name": "m", "sdf": )" << sdf << "}";
+    return path;
+  }
+  static std::string error_of(const std::string& path, const MeshLoader& loader) {
+    try {
+      load_scene_file(path, loader);
+    } catch (const SceneError& e) {
+      return e.what();
+    }
+    return "(no error)";
+  }
+  std::filesystem::path dir_;
+};
+
+TEST_F(MeshScene, ShorthandPathIsFoundBesideTheSceneFileAndRoundTrips) {
+  const std::string path = write("scene.json", R"({"type": "translate", "offset": [0, 1, 0], "child": {"mesh": "notched.obj"}})");
+  const Scene s = load_scene_file(path, validation::mesh_loader());
+  const Node& m = s.root.children[0];
+  ASSERT_EQ(m.op, Op::mesh);
+  EXPECT_EQ(m.source, (dir_ / "notched.obj").string());
+  ASSERT_TRUE(m.mesh);
+  EXPECT_EQ(m.mesh->mesh().triangles.size(), 48u);
+  EXPECT_EQ(derive_info(s.root).kind, Kind::exact);
+  // Exported with the resolved path: the file loads the same from any folder, and exports the same again.
+  const std::string text = scene_to_json(s);
+  const Scene again = scene_from_json(text, "elsewhere/exported.json", validation::mesh_loader());
+  EXPECT_EQ(scene_to_json(again), text);
+  EXPECT_EQ(evaluate(compile(again.root), glm::dvec3(0.3, 1.2, 0.1)), evaluate(compile(s.root), glm::dvec3(0.3, 1.2, 0.1)));
+}
+
+TEST_F(MeshScene, MissingOrBadMeshesAndNoLoaderNameTheFileAndTheJsonPath) {
+  const std::string missing = write("missing.json", R"({"type": "union", "children": [{"mesh": "nowhere.obj"}]})");
+  const std::string err = error_of(missing, validation::mesh_loader());
+  EXPECT_EQ(err.rfind(missing + ": /sdf/children/0/mesh: ", 0), 0u) << err;
+  EXPECT_NE(err.find((dir_ / "nowhere.obj").string()), std::string::npos) << err;
+
+  meshes::Mesh open = meshes::box({1, 1, 1}).mesh;
+  open.triangles.pop_back();
+  meshes::save_mesh(open, (dir_ / "open.off").string());
+  const std::string bad = write("bad.json", R"({"mesh": "open.off"})");
+  const std::string bad_err = error_of(bad, validation::mesh_loader());
+  EXPECT_EQ(bad_err.rfind(bad + ": /sdf/mesh: '" + (dir_ / "open.off").string() + "': edge", 0), 0u) << bad_err;
+  EXPECT_NE(bad_err.find("open or inconsistently oriented"), std::string::npos) << bad_err;
+
+  const std::string good = write("good.json", R"({"mesh": "notched.obj"})");
+  EXPECT_NE(error_of(good, {}).find(good + ": /sdf/mesh: '"), std::string::npos);
+  EXPECT_NE(error_of(good, {}).find("no mesh loader"), std::string::npos);
+  EXPECT_NE(error_of(write("gen.json", R"j({"mesh": "procedural:icosphere(1,99)"})j"), validation::mesh_loader())
+                .find("/sdf/mesh: procedural:icosphere(1,99)"),
+            std::string::npos);
+  EXPECT_THROW(builtin_scene("mesh-icosphere"), SceneError);  // built-ins with meshes need the loader too
 }
 
 TEST(Settings, OverridesParseTypedValuesAndRejectBadOnes) {

@@ -8,6 +8,8 @@
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
 
+#include <algorithm>
+#include <iterator>
 #include <map>
 
 namespace marchcheck::validation {
@@ -97,6 +99,68 @@ ReferenceHit MeshReference::first_hit(glm::dvec3 o, glm::dvec3 d, double t_max) 
   const K::Vector_3 n = CGAL::cross_product(hit->second->vertex(1) - hit->second->vertex(0),
                                             hit->second->vertex(2) - hit->second->vertex(0));
   out.normal = glm::normalize(glm::dvec3(n.x(), n.y(), n.z()));
+  return out;
+}
+
+Spans MeshReference::spans(glm::dvec3 o, glm::dvec3 d) const {
+  if (!impl_->inside) return {};
+  const K::Line_3 line(point(o), K::Vector_3(d.x, d.y, d.z));
+  std::vector<Tree::Intersection_and_primitive_id<K::Line_3>::Type> hits;
+  impl_->tree->all_intersections(line, std::back_inserter(hits));
+  struct Crossing {
+    double t;
+    glm::dvec3 n;
+  };
+  std::vector<Crossing> crossings;
+  const double dd = glm::dot(d, d);
+  for (const auto& h : hits) {
+    const K::Point_3* at = boost::get<K::Point_3>(&h.first);
+    if (!at) continue;  // the line lies in the face's plane: the faces around it bound the solid
+    const K::Vector_3 n = CGAL::cross_product(h.second->vertex(1) - h.second->vertex(0),
+                                              h.second->vertex(2) - h.second->vertex(0));
+    crossings.push_back({glm::dot(vec(*at) - o, d) / dd, glm::normalize(glm::dvec3(n.x(), n.y(), n.z()))});
+  }
+  std::sort(crossings.begin(), crossings.end(), [](const Crossing& a, const Crossing& b) { return a.t < b.t; });
+  // Crossings at one point (an edge or vertex shared by several faces) form a group; between groups the line is
+  // wholly inside or outside. When every group is one face crossed inside, the line alternates out, in, out;
+  // otherwise (an edge or vertex crossed, counted once per face, or only touched) the exact side test at the
+  // middle of each gap decides.
+  struct Group {
+    double t;
+    glm::dvec3 entry, exit;  // the face normals most against and most along the line
+    int faces;
+  };
+  std::vector<Group> groups;
+  double most_against = 0, most_along = 0;
+  for (const auto& c : crossings) {
+    const double along = glm::dot(c.n, d);
+    if (groups.empty() || c.t > groups.back().t + 1e-12 * (1 + std::abs(groups.back().t))) {
+      groups.push_back({c.t, c.n, c.n, 0});
+      most_against = most_along = along;
+    }
+    ++groups.back().faces;
+    if (along < most_against) {
+      groups.back().entry = c.n;
+      most_against = along;
+    }
+    if (along > most_along) {
+      groups.back().exit = c.n;
+      most_along = along;
+    }
+  }
+  const bool alternating = groups.size() % 2 == 0 &&
+                           std::all_of(groups.begin(), groups.end(), [](const Group& g) { return g.faces == 1; });
+  Spans out;
+  for (size_t k = 0; k + 1 < groups.size(); ++k) {
+    const glm::dvec3 middle = o + d * (0.5 * (groups[k].t + groups[k + 1].t));
+    if (alternating ? k % 2 == 1 : (*impl_->inside)(point(middle)) != CGAL::ON_BOUNDED_SIDE) continue;
+    if (!out.empty() && out.back().t1 == groups[k].t) {
+      out.back().t1 = groups[k + 1].t;  // inside on both sides of a touching point
+      out.back().n1 = groups[k + 1].exit;
+    } else {
+      out.push_back({groups[k].t, groups[k + 1].t, groups[k].entry, groups[k + 1].exit});
+    }
+  }
   return out;
 }
 

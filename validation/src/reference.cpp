@@ -1,5 +1,8 @@
 #include "marchcheck/validation/reference.hpp"
 
+#include "marchcheck/validation/mesh_loader.hpp"
+#include "marchcheck/validation/mesh_reference.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -218,7 +221,7 @@ bool is_rigid(const glm::dmat3& a) {
   return true;
 }
 
-Spans cast(const Node& n, dvec3 o, dvec3 d, double time) {
+Spans cast(const Node& n, dvec3 o, dvec3 d, double time, const MeshReferences& meshes) {
   switch (n.op) {
     case Op::sphere: return sphere_spans(n.scalar("radius"), o, d);
     case Op::plane: return plane_spans(n.vec3("normal"), n.scalar("offset"), o, d);
@@ -226,21 +229,22 @@ Spans cast(const Node& n, dvec3 o, dvec3 d, double time) {
     case Op::torus: return torus_spans(n.scalar("major"), n.scalar("minor"), o, d);
     case Op::capsule: return capsule_spans(n.vec3("a"), n.vec3("b"), n.scalar("radius"), o, d);
     case Op::capped_cylinder: return capped_cylinder_spans(n.scalar("half_height"), n.scalar("radius"), o, d);
+    case Op::mesh: return meshes.at(n.mesh.get())->spans(o, d);
     case Op::union_: {
       Spans out;
-      for (const auto& c : n.children) out = unite(out, cast(c, o, d, time));
+      for (const auto& c : n.children) out = unite(out, cast(c, o, d, time, meshes));
       return out;
     }
     case Op::intersection: {
-      Spans out = cast(n.children[0], o, d, time);
-      for (size_t i = 1; i < n.children.size(); ++i) out = intersect(out, cast(n.children[i], o, d, time));
+      Spans out = cast(n.children[0], o, d, time, meshes);
+      for (size_t i = 1; i < n.children.size(); ++i) out = intersect(out, cast(n.children[i], o, d, time, meshes));
       return out;
     }
-    case Op::subtraction: return subtract(cast(n.children[0], o, d, time), cast(n.children[1], o, d, time));
-    case Op::translate: return cast(n.children[0], o - n.vec3("offset"), d, time);
+    case Op::subtraction: return subtract(cast(n.children[0], o, d, time, meshes), cast(n.children[1], o, d, time, meshes));
+    case Op::translate: return cast(n.children[0], o - n.vec3("offset"), d, time, meshes);
     case Op::scale: {
       const double s = n.scalar("factor");
-      return cast(n.children[0], o / s, d / s, time);  // t is unchanged: o + t d scales as a whole
+      return cast(n.children[0], o / s, d / s, time, meshes);  // t is unchanged: o + t d scales as a whole
     }
     case Op::rotate:
     case Op::affine:
@@ -249,7 +253,7 @@ Spans cast(const Node& n, dvec3 o, dvec3 d, double time) {
                                         ? sdf::ModelTransform{sdf::rotation_matrix(n.vec3("axis"), n.scalar("angle_deg") * std::numbers::pi / 180), {}}
                                         : sdf::model_transform(n, time);
       const glm::dmat3 inv = glm::inverse(m.a);
-      Spans out = cast(n.children[0], inv * (o - m.t), inv * d, time);
+      Spans out = cast(n.children[0], inv * (o - m.t), inv * d, time, meshes);
       for (auto& s : out) {
         s.n0 = m.a * s.n0;
         s.n1 = m.a * s.n1;
@@ -270,6 +274,7 @@ bool exact_supported(const Node& n, double time) {
     case Op::torus:
     case Op::capsule:
     case Op::capped_cylinder: return true;
+    case Op::mesh: return n.mesh != nullptr;
     case Op::affine:
     case Op::animate:
       if (!is_rigid(sdf::model_transform(n, time).a)) return false;
@@ -285,18 +290,27 @@ bool exact_supported(const Node& n, double time) {
   }
 }
 
-Spans cast_exact(const Node& node, dvec3 origin, dvec3 direction, double time) {
-  return cast(node, origin, direction, time);
+MeshReferences mesh_references(const Node& node) {
+  MeshReferences out;
+  if (node.op == Op::mesh && node.mesh)
+    out[node.mesh.get()] = std::make_shared<const MeshReference>(to_mesh(node.mesh->mesh()));
+  for (const auto& c : node.children) out.merge(mesh_references(c));
+  return out;
+}
+
+Spans cast_exact(const Node& node, dvec3 origin, dvec3 direction, double time, const MeshReferences& meshes) {
+  return cast(node, origin, direction, time, meshes);
 }
 
 Reference::Reference(const Node& node, double time)
-    : node_(node), time_(time), exact_(exact_supported(node, time)), tape_(sdf::compile(node, time)),
+    : node_(node), time_(time), meshes_(mesh_references(node)), exact_(exact_supported(node, time)),
+      tape_(sdf::compile(node, time)),
       lipschitz_(sdf::derive_info(node, time).lipschitz) {}
 
 ReferenceHit Reference::first_hit(dvec3 o, dvec3 d, double t_max) const {
   ReferenceHit out;
   if (exact_) {
-    for (const auto& s : cast(node_, o, d, time_)) {
+    for (const auto& s : cast(node_, o, d, time_, meshes_)) {
       if (s.t1 <= 0) continue;
       if (s.t0 <= 0) {
         out.inside = true;

@@ -16,6 +16,9 @@ namespace marchcheck::meshes {
 // truncated content, NaN/Inf or out-of-float-range coordinates, out-of-range indices, or no triangles at all.
 Mesh load_mesh(const std::string& path);
 
+// A mesh by source: "procedural:SPEC" (see procedural_mesh), else a file for load_mesh. Throws MeshError.
+Mesh load_mesh_source(const std::string& source);
+
 // Writes OBJ, OFF (ASCII), PLY or STL (binary) by extension, atomically: a temporary ".NAME.tmp-PID.EXT" in the
 // same folder, then a rename. Throws MeshError naming the path if the mesh is invalid (no triangles, bad index,
 // non-finite or out-of-float-range coordinate) or the file cannot be written; a failed save leaves no file behind.

@@ -5,6 +5,8 @@
 
 #include <glm/vec3.hpp>
 
+#include <string>
+
 namespace marchcheck::meshes {
 
 // max_error bounds the distance from any point of the analytic surface to the mesh, and from any point of the
@@ -27,5 +29,13 @@ ProceduralMesh torus(double major, double minor, int rings, int sides);
 
 // Axis-aligned box about the origin, 12 triangles, exact (max_error = 0).
 ProceduralMesh box(glm::dvec3 half_size);
+
+// The same box with its +x +y +z octant cut away: sharp convex and concave edges, and vertices where coplanar
+// triangles meet at many angles. 48 triangles, exact (max_error = 0).
+ProceduralMesh notched_box(glm::dvec3 half_size);
+
+// A generator by name and arguments: "icosphere(R,N)", "uv_sphere(R,STACKS,SLICES)", "torus(MAJOR,MINOR,RINGS,SIDES)",
+// "box(HX,HY,HZ)", "notched_box(HX,HY,HZ)". Throws MeshError naming the spec and the problem.
+ProceduralMesh procedural_mesh(const std::string& spec);
 
 }  // namespace marchcheck::meshes

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "marchcheck/sdf/scene.hpp"
+#include "marchcheck/sdf/scene_file.hpp"
 
 #include <string>
 #include <vector>
@@ -10,10 +11,10 @@ namespace marchcheck::sdf {
 
 std::vector<std::string> builtin_scene_names();
 
-// Throws SceneError for a name that is not built in.
-Scene builtin_scene(const std::string& name);
+// Throws SceneError for a name that is not built in, or for a scene with meshes and no loader.
+Scene builtin_scene(const std::string& name, const MeshLoader& meshes = {});
 
 // A built-in name, or else a scene file path.
-Scene resolve_scene(const std::string& name_or_path);
+Scene resolve_scene(const std::string& name_or_path, const MeshLoader& meshes = {});
 
 }  // namespace marchcheck::sdf

@@ -3,6 +3,7 @@
 
 #include <glm/glm.hpp>
 
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
@@ -27,6 +28,7 @@ enum class Op : unsigned char {
   octahedron_bound,
   heightfield,
   mandelbulb,
+  mesh,
   // 2D shapes (children of revolve and extrude)
   circle,
   rect,
@@ -45,6 +47,7 @@ enum class Op : unsigned char {
   round,
   onion,
   displace,
+  grid,
   // domain operators
   translate,
   rotate,
@@ -92,11 +95,17 @@ const OpInfo& op_info(Op op);
 const OpInfo* find_op(std::string_view name);
 std::span<const OpInfo> all_ops();
 
+class MeshDistance;
+
 struct Node {
   Op op = Op::sphere;
   std::vector<double> params;  // the OpInfo's params, flattened in order
   std::vector<Node> children;
   int material = -1;  // index into the scene's materials; -1 = inherit from the children
+  // Mesh nodes: where the triangles come from (a file path, or a generator such as "procedural:icosphere(1,4)"),
+  // and, once a mesh loader has read it, the triangles with their distance structure (immutable, shared by copies).
+  std::string source;
+  std::shared_ptr<const MeshDistance> mesh;
 
   // The values of the named parameter (aborts on a name the op does not have: a programming error).
   std::span<const double> param(std::string_view name) const;
@@ -118,6 +127,8 @@ Node unite(std::vector<Node> children);
 Node intersect(Node a, Node b);
 Node subtract(Node a, Node b);
 Node smooth_union(double k, std::vector<Node> children);
+// A mesh node for the given source, its triangles not yet loaded (see load_meshes in scene_file.hpp).
+Node mesh(std::string source, int material = -1);
 
 struct Box3 {
   glm::dvec3 lo{-INFINITY};
@@ -143,6 +154,15 @@ struct ModelTransform {
   glm::dvec3 t;
 };
 ModelTransform model_transform(const Node& node, double time);
+
+// The samples of a grid node: count[i] of them along axis i, cell apart, from lo; centred on the child's bounds.
+struct GridLayout {
+  glm::dvec3 lo;
+  double cell;
+  glm::ivec3 count;
+  Box3 box() const { return {lo, lo + glm::dvec3(count - 1) * cell}; }
+};
+GridLayout grid_layout(const Node& grid, const Box3& child_bounds);
 
 // time feeds the animated operators (animate, warp).
 FieldInfo derive_info(const Node& node, double time = 0.0);

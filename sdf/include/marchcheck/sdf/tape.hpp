@@ -2,11 +2,13 @@
 // stacks, so a scene loaded from a file costs no allocation and no virtual call per evaluation.
 #pragma once
 
+#include "marchcheck/sdf/mesh_distance.hpp"
 #include "marchcheck/sdf/node.hpp"
 #include "marchcheck/sdf/noise.hpp"
 #include "marchcheck/sdf/scalar.hpp"
 
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -16,6 +18,8 @@ enum class TapeOp : std::uint8_t {
   // primitives: read the top point, push a value
   sphere, plane, box, round_box, box_frame, torus, capped_torus, capsule, capped_cylinder, cone, ellipsoid,
   octahedron, octahedron_bound, heightfield, mandelbulb, circle, rect, segment,
+  mesh,  // arg: index into Tape::meshes
+  grid,  // arg: counts, lowest corner, cell, then the samples (x fastest)
   // values: pop two, push one
   min, max, subtract, smooth_min, smooth_max, smooth_subtract,
   // values: modify the top one
@@ -37,6 +41,7 @@ struct Tape {
   std::vector<Instr> code;
   std::vector<double> constants;
   std::vector<float> constants_f;  // the same constants rounded once, so float evaluation never converts
+  std::vector<std::shared_ptr<const MeshDistance>> meshes;
   int value_depth = 0;
   int point_depth = 0;
 
@@ -197,6 +202,27 @@ inline T eval_primitive(const Tape& tape, const Instr& in, v3<T> p) {
       const v2<T> ba(k(2), k(3));  // b - a
       const T h = clamp(dot(pa, ba) * k(4), T(0), T(1));
       return length(pa - ba * h) - k(5);
+    }
+    case TapeOp::mesh: return tape.meshes[a]->signed_distance(p);
+    case TapeOp::grid: {
+      using S = decltype(value_of(T{}));
+      int n[3], cell0[3];
+      v3<T> f;
+      const T cell = k(6);
+      const v3<T> g = (p - v3<T>(k(3), k(4), k(5))) / cell;  // in cells from the lowest sample
+      v3<T> c;
+      for (int i = 0; i < 3; ++i) {
+        n[i] = static_cast<int>(tape.constants[a + static_cast<std::uint32_t>(i)]);
+        c[i] = clamp(g[i], T(0), T(static_cast<S>(n[i] - 1)));
+        cell0[i] = std::min(static_cast<int>(value_of(c[i])), n[i] - 2);
+        f[i] = c[i] - T(static_cast<S>(cell0[i]));
+      }
+      auto s = [&](int dx, int dy, int dz) {
+        return k(7 + static_cast<std::uint32_t>(cell0[0] + dx + n[0] * (cell0[1] + dy + n[1] * (cell0[2] + dz))));
+      };
+      const T y0 = mix(mix(s(0, 0, 0), s(1, 0, 0), f.x), mix(s(0, 1, 0), s(1, 1, 0), f.x), f.y);
+      const T y1 = mix(mix(s(0, 0, 1), s(1, 0, 1), f.x), mix(s(0, 1, 1), s(1, 1, 1), f.x), f.y);
+      return mix(y0, y1, f.z) + length(g - c) * cell;
     }
     default: return T(0);
   }

@@ -27,6 +27,9 @@ class MeshReference {
   std::optional<double> signed_distance(glm::dvec3 p) const;
   // The first face along origin + t direction (unit) within t_max, with its outward face normal.
   ReferenceHit first_hit(glm::dvec3 origin, glm::dvec3 direction, double t_max) const;
+  // The solid's spans along the whole line origin + t direction, for the exact CSG caster: entered and left
+  // through the faces the line crosses (outward face normals). Closed meshes only; an open mesh has no spans.
+  Spans spans(glm::dvec3 origin, glm::dvec3 direction) const;
   // Whether the open segment a-b crosses no face (shadow visibility from a to a light at b).
   bool visible(glm::dvec3 a, glm::dvec3 b) const;
 

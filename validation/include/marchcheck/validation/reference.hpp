@@ -8,6 +8,8 @@
 
 #include <glm/glm.hpp>
 
+#include <map>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -21,13 +23,20 @@ struct Span {
 };
 using Spans = std::vector<Span>;  // sorted by t0, disjoint
 
+class MeshReference;
+// The CGAL reference of each mesh node's triangles, for casting rays through mesh nodes.
+using MeshReferences = std::map<const sdf::MeshDistance*, std::shared_ptr<const MeshReference>>;
+MeshReferences mesh_references(const sdf::Node& node);
+
 // Whether a tree is made only of shapes and operators the exact caster knows (sphere, plane, box, torus,
-// capsule, capped cylinder; union, intersection, subtraction; translate, rotate, uniform scale, rigid
-// affine/animate). time feeds animate.
+// capsule, capped cylinder, loaded meshes; union, intersection, subtraction; translate, rotate, uniform scale,
+// rigid affine/animate). time feeds animate.
 bool exact_supported(const sdf::Node& node, double time = 0);
 
-// The solid's spans along origin + t direction (direction unit length). Requires exact_supported.
-Spans cast_exact(const sdf::Node& node, glm::dvec3 origin, glm::dvec3 direction, double time = 0);
+// The solid's spans along origin + t direction (direction unit length). Requires exact_supported; meshes are
+// mesh_references(node).
+Spans cast_exact(const sdf::Node& node, glm::dvec3 origin, glm::dvec3 direction, double time = 0,
+                 const MeshReferences& meshes = {});
 
 // The first surface along a ray, from either reference.
 struct ReferenceHit {
@@ -51,6 +60,7 @@ class Reference {
  private:
   sdf::Node node_;
   double time_;
+  MeshReferences meshes_;
   bool exact_;
   sdf::Tape tape_;
   double lipschitz_;

@@ -1,0 +1,163 @@
+// The mesh node against CGAL: its own closest-point search and pseudonormal sign give the exact signed distance
+// CGAL's AABB tree and side-of-mesh test give; a face-normal sign and broken meshes are caught.
+#include "marchcheck/meshes/procedural.hpp"
+#include "marchcheck/sdf/mesh_distance.hpp"
+#include "marchcheck/sdf/tape.hpp"
+#include "marchcheck/validation/mesh_loader.hpp"
+#include "marchcheck/validation/mesh_reference.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cfloat>
+#include <cstdio>
+#include <random>
+
+namespace marchcheck::sdf {
+namespace {
+
+using glm::dvec3;
+
+struct Case {
+  const char* name;
+  meshes::ProceduralMesh mesh;
+};
+
+std::vector<Case> cases() {
+  return {{"icosphere", meshes::icosphere(1, 3)},
+          {"torus", meshes::torus(1, 0.35, 32, 16)},
+          // A tube of triangular section: edges whose faces' normals are 120 degrees apart.
+          {"triangular_torus", meshes::torus(1, 0.35, 8, 3)},
+          {"notched_box", meshes::notched_box({1, 0.7, 0.6})}};
+}
+
+// Uniform points in the mesh's bounds grown by half their size, and points within 0.02 of its vertices, where
+// edges and vertices are the closest features.
+std::vector<dvec3> samples(const MeshDistance& md, int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1), near(-0.02, 0.02);
+  const Box3 b = md.bounds();
+  const dvec3 lo = b.lo - b.size() * 0.5, size = b.size() * 2.0;
+  std::vector<dvec3> out;
+  for (int i = 0; i < count; ++i) out.push_back(lo + size * dvec3(u(rng), u(rng), u(rng)));
+  const auto& vs = md.mesh().vertices;
+  for (int i = 0; i < count; ++i)
+    out.push_back(vs[static_cast<size_t>(i) % vs.size()] + dvec3(near(rng), near(rng), near(rng)));
+  return out;
+}
+
+TEST(MeshNode, SignedDistanceMatchesCgalInDoubleAndFloat) {
+  for (const auto& c : cases()) {
+    const MeshDistance md(validation::to_triangle_mesh(c.mesh.mesh));
+    const validation::MeshReference ref(c.mesh.mesh);
+    ASSERT_TRUE(ref.closed()) << c.name;
+    const double scale = glm::length(md.bounds().size());
+    // Double: both sides compute one closest point in double; a few hundred ulps at the mesh scale.
+    const double tol_double = 256 * DBL_EPSILON * scale;
+    // Float: vertices and query rounded to float (2^-24 relative each) and the closest-point arithmetic on
+    // top; 16 float epsilons at the scale of the sampled region.
+    const double tol_float = 16 * FLT_EPSILON * 2 * scale;
+    double worst_double = 0, worst_float = 0;
+    int wrong_sign = 0;
+    for (const dvec3& p : samples(md, 1500, 7)) {
+      const double expected = *ref.signed_distance(p);
+      const double d = md.signed_distance(p);
+      const float f = md.signed_distance(glm::vec3(p));
+      worst_double = std::max(worst_double, std::abs(d - expected));
+      worst_float = std::max(worst_float, std::abs(static_cast<double>(f) - expected));
+      if (std::abs(expected) > tol_float && (f < 0) != (expected < 0)) ++wrong_sign;
+    }
+    EXPECT_LE(worst_double, tol_double) << c.name;
+    EXPECT_LE(worst_float, tol_float) << c.name;
+    EXPECT_EQ(wrong_sign, 0) << c.name;
+  }
+}
+
+TEST(MeshNode, SignByTheClosestFaceNormalIsCaughtAtSharpEdges) {
+  // The broken variant: sign(dot(p - closest, normal of the closest face)). Where the closest point is a vertex
+  // or edge, the one face normal chosen need not lie on p's side (Baerentzen & Aanaes 2005).
+  for (const auto& c : cases()) {
+    const MeshDistance md(validation::to_triangle_mesh(c.mesh.mesh));
+    const validation::MeshReference ref(c.mesh.mesh);
+    int wrong_pseudo = 0, wrong_face = 0;
+    for (const dvec3& p : samples(md, 3000, 11)) {
+      const double expected = *ref.signed_distance(p);
+      if (std::abs(expected) < 1e-9) continue;
+      const auto closest = md.closest(p);
+      const bool face_inside = glm::dot(p - closest.point, closest.face_normal) < 0;
+      wrong_face += face_inside != (expected < 0);
+      wrong_pseudo += (md.signed_distance(p) < 0) != (expected < 0);
+    }
+    EXPECT_EQ(wrong_pseudo, 0) << c.name;
+    // Only edges whose faces' normals are more than 90 degrees apart catch it (outside, near the edge, p - closest
+    // can make an obtuse angle with one of them); where faces meet at right or flatter angles the closest face's
+    // normal happens to give the right sign.
+    if (std::string(c.name) == "triangular_torus") {
+      EXPECT_GT(wrong_face, 0) << c.name;
+    }
+    std::printf("%s: face-normal sign wrong at %d of 6000 points, pseudonormal sign at %d\n", c.name, wrong_face,
+                wrong_pseudo);
+  }
+}
+
+TEST(MeshNode, RefusesMeshesWithoutAnInside) {
+  auto throws_with = [](const meshes::Mesh& m, const std::string& what) {
+    try {
+      MeshDistance md(validation::to_triangle_mesh(m));
+      ADD_FAILURE() << "accepted a mesh that is " << what;
+    } catch (const MeshShapeError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  meshes::Mesh flipped = meshes::box({1, 1, 1}).mesh;
+  for (auto& t : flipped.triangles) std::swap(t[1], t[2]);
+  throws_with(flipped, "inside out");
+  meshes::Mesh open = meshes::box({1, 1, 1}).mesh;
+  open.triangles.pop_back();
+  throws_with(open, "no twin");
+  meshes::Mesh one_face_flipped = meshes::box({1, 1, 1}).mesh;
+  std::swap(one_face_flipped.triangles[0][1], one_face_flipped.triangles[0][2]);
+  throws_with(one_face_flipped, "same direction");
+  throws_with({}, "no triangles");
+}
+
+TEST(MeshNode, DualGradientIsTheUnitDirectionOfSteepestAscent) {
+  // A 1-Lipschitz field changing at slope 1 along a unit vector has it as its gradient. On the segment from p
+  // to its closest point the closest point stays put, so there the slope is 1 up to rounding.
+  const MeshDistance md(validation::to_triangle_mesh(meshes::notched_box({1, 0.7, 0.6}).mesh));
+  using D = Dual<double>;
+  int checked = 0;
+  for (const dvec3& p : samples(md, 500, 3)) {
+    const glm::vec<3, D> q(D(p.x, {1, 0, 0}), D(p.y, {0, 1, 0}), D(p.z, {0, 0, 1}));
+    const D d = md.signed_distance(q);
+    EXPECT_EQ(d.v, md.signed_distance(p));
+    if (std::abs(d.v) < 1e-3) continue;  // the step below must stay on one side of the surface
+    ++checked;
+    const double h = 1e-4, s = d.v > 0 ? 1 : -1;
+    const double slope = (d.v - md.signed_distance(p - d.d * (s * h))) / (s * h);  // a step towards the surface
+    EXPECT_NEAR(glm::length(d.d), 1, 1e-12);
+    // Difference quotient in double of values near 1: rounding of about eps / h.
+    EXPECT_NEAR(slope, 1, 1e-9) << p.x << " " << p.y << " " << p.z;
+  }
+  EXPECT_GT(checked, 500);
+}
+
+TEST(MeshNode, TapeEvaluatesItUnderTransformsInFloatDoubleAndDual) {
+  Node m = mesh("procedural:icosphere(1,2)");
+  m.mesh = std::make_shared<const MeshDistance>(validation::to_triangle_mesh(meshes::icosphere(1, 2).mesh));
+  const MeshDistance& md = *m.mesh;
+  const Tape tape = compile(translate({1, 2, 3}, m));
+  EXPECT_EQ(derive_info(m).kind, Kind::exact);
+  for (const dvec3 p : {dvec3(1, 2, 3), dvec3(3, 2, 1), dvec3(1, 2.5, 3.2)}) {
+    EXPECT_EQ(evaluate(tape, p), md.signed_distance(p - dvec3(1, 2, 3)));
+    EXPECT_EQ(evaluate(tape, glm::vec3(p)), md.signed_distance(glm::vec3(p) - glm::vec3(1, 2, 3)));
+    using D = Dual<double>;
+    const D d = evaluate(tape, glm::vec<3, D>(D(p.x, {1, 0, 0}), D(p.y, {0, 1, 0}), D(p.z, {0, 0, 1})));
+    const dvec3 q = p - dvec3(1, 2, 3);
+    EXPECT_EQ(d.d, md.signed_distance(glm::vec<3, D>(D(q.x, {1, 0, 0}), D(q.y, {0, 1, 0}), D(q.z, {0, 0, 1}))).d);
+  }
+  Node unloaded = mesh("m.obj");
+  EXPECT_THROW(compile(unloaded), CompileError);
+}
+
+}  // namespace
+}  // namespace marchcheck::sdf
