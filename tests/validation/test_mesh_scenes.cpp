@@ -9,6 +9,7 @@
 #include "marchcheck/validation/mesh_loader.hpp"
 #include "marchcheck/validation/mesh_reference.hpp"
 #include "marchcheck/validation/reference.hpp"
+#include "marchcheck/validation/validate.hpp"
 
 #include <gtest/gtest.h>
 
@@ -125,6 +126,33 @@ TEST(MeshScenes, IcosphereNormalLimitIsTheLargestAngleBetweenAdjacentFaces) {
   const double limit = sdf::builtin_scene("mesh-icosphere", mesh_loader()).limits.at("normal.angle_p99_deg");
   EXPECT_LE(worst, limit);
   EXPECT_GT(worst, limit - 0.05);  // the limit is this angle, not a looser one
+}
+
+TEST(MeshScenes, GridOfTheMeshNeedsStepsOfFOverSqrt3) {
+  // mesh-box's notched box alone (no ground: rays grazing a plane make the numerical reference slow) sampled on
+  // a grid: validate measures the grid's slope against the declared sqrt(3). Stepping by f (the sphere tracer) is
+  // caught; stepping by f / L (the scaled marcher) passes.
+  sdf::Scene s = sdf::builtin_scene("mesh-box", mesh_loader());
+  const sdf::Node shape = s.root.children[0].children[0].children[0];  // union > translate > rotate > mesh
+  ASSERT_EQ(shape.op, sdf::Op::mesh);
+  s.root = sdf::make(sdf::Op::grid, {{"resolution", {24}}}, {shape});
+  s.camera.target = glm::dvec3(0);
+  s.march.hit_eps = 1e-3;
+  const ValidateOptions small{32, 18, 0};
+  auto check = [&](const SceneResult& r, const std::string& name) {
+    for (const auto& c : r.checks)
+      if (c.name == name) return c;
+    ADD_FAILURE() << "no " << name;
+    return Check{};
+  };
+  s.march.marcher = sdf::Marcher::scaled;
+  const SceneResult scaled = validate_scene(s, small);
+  EXPECT_TRUE(check(scaled, "sdf.lipschitz_over_declared").pass);
+  EXPECT_TRUE(check(scaled, "march.safe_step_ratio").pass) << check(scaled, "march.safe_step_ratio").value;
+  EXPECT_TRUE(check(scaled, "hit.overshoot").pass);
+  s.march.marcher = sdf::Marcher::sphere;
+  const SceneResult sphere = validate_scene(s, small);
+  EXPECT_FALSE(check(sphere, "march.safe_step_ratio").pass) << check(sphere, "march.safe_step_ratio").value;
 }
 
 }  // namespace
