@@ -20,7 +20,8 @@ struct StabilityCase {
   std::string checks;     // what it checks
   std::string criterion;  // when it is stable
   std::string naive;      // the naive variant StabilityOptions::naive runs
-  std::map<std::string, double> metrics;
+  std::map<std::string, double> metrics;  // outcomes as march::Outcome's number: 0 hit, 1 miss_far, 2 miss_steps,
+                                          // 3 inside, 4 invalid
   bool stable = false;
   std::string detail;  // why not, when unstable
 };
