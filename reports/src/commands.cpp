@@ -175,13 +175,17 @@ int run_stability(const StabilityCommand& cmd, std::ostream& out, std::ostream& 
   out << std::left << std::setw(34) << "case" << std::setw(10) << "result" << "numbers\n";
   for (const auto& c : cases) {
     stable += c.stable;
+    // The table shows a case's first numbers; the JSON has them all.
+    constexpr int kShown = 6;
     std::ostringstream numbers;
     numbers << std::setprecision(3);
     nlohmann::ordered_json metrics = nlohmann::ordered_json::object();
+    int shown = 0;
     for (const auto& [k, v] : c.metrics) {
-      numbers << (numbers.tellp() > 0 ? " " : "") << k << "=" << v;
+      if (shown++ < kShown) numbers << (shown > 1 ? " " : "") << k << "=" << v;
       metrics[k] = std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr;
     }
+    if (shown > kShown) numbers << " (+" << shown - kShown << " in --json)";
     out << std::left << std::setw(34) << c.name << std::setw(10) << (c.stable ? "stable" : "UNSTABLE") << numbers.str()
         << "\n";
     if (!c.stable) out << std::string(44, ' ') << "why: " << c.detail << "\n";
