@@ -33,6 +33,12 @@ int main(int argc, char** argv) {
   validate_cmd->add_option("--json", validate.json, "Write the metrics and checks as JSON");
   validate_cmd->add_option("--set", validate.sets, "Override a scene or marching parameter KEY=VALUE (repeatable)");
 
+  StabilityCommand stability;
+  auto* stability_cmd = app.add_subcommand("stability", "The hard-case battery; exit 0 all stable, 1 a case is not");
+  stability_cmd->add_option("--json", stability.json, "Write every case's criterion, numbers and verdict as JSON");
+  stability_cmd->add_flag("--naive", stability.naive, "Run each case's naive variant instead (each should be unstable)");
+  stability_cmd->add_flag("--full", stability.full, "Include the slow sizes (the 1.3M-triangle mesh)");
+
   std::string all_dir = "reports/out";
   auto* all_cmd = app.add_subcommand("render-all", "Render every built-in scene into a folder");
   all_cmd->add_option("-o,--output", all_dir, "Folder for the images");
@@ -94,5 +100,6 @@ int main(int argc, char** argv) {
     report.progress = ::isatty(STDERR_FILENO) != 0;
     return run_report(report, std::cout, std::cerr);
   }
+  if (*stability_cmd) return run_stability(stability, std::cout, std::cerr);
   return run_render_all(all_dir, std::cout, std::cerr);
 }

@@ -7,6 +7,7 @@
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/validation/mesh_loader.hpp"
+#include "marchcheck/validation/stability.hpp"
 #include "marchcheck/validation/validate.hpp"
 
 #include <nlohmann/json.hpp>
@@ -18,6 +19,7 @@
 #include <sstream>
 #include <filesystem>
 #include <iomanip>
+#include <sstream>
 
 namespace marchcheck::reports {
 
@@ -162,6 +164,54 @@ int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& er
   }
   const bool all_pass = std::all_of(results.begin(), results.end(), [](const auto& r) { return r.pass(); });
   return all_pass ? 0 : 1;
+}
+
+int run_stability(const StabilityCommand& cmd, std::ostream& out, std::ostream& err) {
+  if (cmd.json) {
+    // Checked before the battery runs, so a bad path costs no time; the write itself is atomic.
+    const auto parent = std::filesystem::absolute(*cmd.json).parent_path();
+    if (!std::filesystem::is_directory(parent)) {
+      err << "marchcheck stability: " << *cmd.json << ": the folder " << parent.string() << " does not exist\n";
+      return kBadInput;
+    }
+  }
+  const auto cases = validation::run_stability({cmd.naive, cmd.full});
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  int stable = 0;
+  out << std::left << std::setw(34) << "case" << std::setw(10) << "result" << "numbers\n";
+  for (const auto& c : cases) {
+    stable += c.stable;
+    // The table shows a case's first numbers; the JSON has them all.
+    constexpr int kShown = 6;
+    std::ostringstream numbers;
+    numbers << std::setprecision(3);
+    nlohmann::ordered_json metrics = nlohmann::ordered_json::object();
+    int shown = 0;
+    for (const auto& [k, v] : c.metrics) {
+      if (shown++ < kShown) numbers << (shown > 1 ? " " : "") << k << "=" << v;
+      metrics[k] = std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr;
+    }
+    if (shown > kShown) numbers << " (+" << shown - kShown << " in --json)";
+    out << std::left << std::setw(34) << c.name << std::setw(10) << (c.stable ? "stable" : "UNSTABLE") << numbers.str()
+        << "\n";
+    if (!c.stable) out << std::string(44, ' ') << "why: " << c.detail << "\n";
+    list.push_back({{"name", c.name}, {"checks", c.checks}, {"criterion", c.criterion}, {"naive_variant", c.naive},
+                    {"stable", c.stable}, {"detail", c.detail}, {"metrics", metrics}});
+  }
+  const bool all_stable = stable == static_cast<int>(cases.size());
+  out << stable << " of " << cases.size() << " cases stable" << (cmd.naive ? " (naive variants)" : "") << "\n";
+  if (cmd.json) {
+    try {
+      write_text_atomically(*cmd.json, nlohmann::ordered_json{{"kind", "stability"}, {"naive", cmd.naive},
+                                                               {"full", cmd.full}, {"stable", all_stable},
+                                                               {"cases", list}}
+                                               .dump(2) + "\n");
+    } catch (const std::exception& e) {
+      err << "marchcheck stability: " << e.what() << "\n";
+      return kBadInput;
+    }
+  }
+  return all_stable ? 0 : 1;
 }
 
 int run_render_all(const std::string& dir, std::ostream& out, std::ostream& err) {

@@ -70,6 +70,24 @@ TEST_F(Cli, ValidateExitsZeroOnPassOneOnAFailedCheckTwoOnBadInput) {
   EXPECT_EQ(run("validate no-such-scene").status, 2);
 }
 
+TEST_F(Cli, StabilityExitsZeroAllStableOneOnTheNaiveVariantsTwoOnAnUnwritablePath) {
+  const CommandRun ok = run("stability --json " + path("stability.json"));
+  EXPECT_EQ(ok.status, 0) << ok.output;
+  EXPECT_NE(ok.output.find("grazing.b1e-7"), std::string::npos);
+  EXPECT_EQ(ok.output.find("UNSTABLE"), std::string::npos) << ok.output;
+  std::ifstream json(path("stability.json"));
+  const std::string text((std::istreambuf_iterator<char>(json)), {});
+  for (const char* key : {"\"kind\": \"stability\"", "\"criterion\"", "\"naive_variant\"", "\"lipschitz.measured\""})
+    EXPECT_NE(text.find(key), std::string::npos) << key;
+  const CommandRun naive = run("stability --naive");
+  EXPECT_EQ(naive.status, 1);
+  EXPECT_NE(naive.output.find("0 of "), std::string::npos) << "every naive variant should be caught";
+  const CommandRun bad = run("stability --json " + path("no-such-folder/s.json"));
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.output.find("no-such-folder/s.json"), std::string::npos) << bad.output;
+  EXPECT_FALSE(std::filesystem::exists(path("no-such-folder")));
+}
+
 TEST_F(Cli, BadInputExitsTwoWithAMessageAndWritesNothing) {
   std::ofstream(path("broken.json")) << "{\n  \"sdf\": {\"type\": \"sphere\" \"radius\": 1}\n}\n";
   std::ofstream(path("no-mesh.json")) << R"({"sdf": {"mesh": "gone.obj"}})";

@@ -191,5 +191,28 @@ TEST(Mandelbulb, IsFiniteEverywhereItIsAsked) {
   EXPECT_LT(sdf::evaluate(tape, glm::dvec3(0, 0, 0.1)), 0.05);
 }
 
+TEST(Mandelbulb, FarOutTheFieldIsTheDistanceToTheBallHoldingTheSetFiniteInFloat) {
+  const Tape tape = compile(make(Op::mandelbulb));
+  const double radius = std::pow(2.0, 1.0 / 7);  // power 8: beyond 2^(1/7) every iteration grows |w|
+  for (int k = 1; k <= 37; ++k)
+    for (const glm::dvec3 dir : {glm::dvec3(0, 0, 1), glm::normalize(glm::dvec3(1, -2, 3))}) {
+      const glm::dvec3 p = dir * std::pow(10.0, k);
+      const float f = sdf::evaluate(tape, glm::vec3(p));
+      EXPECT_TRUE(std::isfinite(f) && f > 0) << k;
+      // A bound: never more than the distance to the ball (relative float rounding 1e-6).
+      EXPECT_LE(f, (std::pow(10.0, k) - radius) * (1 + 1e-6)) << k;
+    }
+}
+
+TEST(Mandelbulb, StaysContinuousWhereTheFarFieldTakesOver) {
+  const Tape tape = compile(make(Op::mandelbulb));
+  for (double r : {2.0, 8.0, 8.0 * std::sqrt(3.0)})
+    for (const glm::dvec3 dir : {glm::dvec3(1, 0, 0), glm::normalize(glm::dvec3(1, 1, 1)), glm::normalize(glm::dvec3(1, 2, 3))}) {
+      const double below = sdf::evaluate(tape, dir * (r - 1e-7)), above = sdf::evaluate(tape, dir * (r + 1e-7));
+      // 2e-7 apart on a field of slope at most a few: any jump would show far above 1e-5.
+      EXPECT_NEAR(below, above, 1e-5) << r;
+    }
+}
+
 }  // namespace
 }  // namespace marchcheck::sdf

@@ -30,7 +30,10 @@ TEST(Convergence, GrazingRaysFollowTheSquareRootLaw) {
     // The law counts the steps spent near the sphere; approach and exit add a few more.
     EXPECT_GT(row.steps, 0.5 * row.law) << row.clearance;
     EXPECT_LT(row.steps, 1.5 * row.law + 20) << row.clearance;
+    EXPECT_EQ(row.outcome, march::Outcome::miss_far) << row.clearance;
   }
+  // The fogerty seed's 32 steps are under the law from b = 1e-2 on: the ray ends undecided, not hit.
+  EXPECT_EQ(grazing_study({1e-2}, 32).front().outcome, march::Outcome::miss_steps);
 }
 
 }  // namespace

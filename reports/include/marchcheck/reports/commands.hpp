@@ -33,6 +33,14 @@ struct ValidateCommand {
 };
 int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& err);
 
+struct StabilityCommand {
+  std::optional<std::string> json;
+  bool naive = false;  // run every case's naive variant instead (each should come out unstable)
+  bool full = false;   // the slow sizes (the 1M-triangle mesh)
+};
+// The hard-case battery: 0 all stable, 1 a case is not, 2 the JSON cannot be written.
+int run_stability(const StabilityCommand& cmd, std::ostream& out, std::ostream& err);
+
 // Renders every built-in scene into dir.
 int run_render_all(const std::string& dir, std::ostream& out, std::ostream& err);
 

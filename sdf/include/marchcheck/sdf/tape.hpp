@@ -177,6 +177,14 @@ inline T eval_primitive(const Tape& tape, const Instr& in, v3<T> p) {
       const T bailout2 = k(2) * k(2);
       v3<T> w = p;
       T m = dot(w, w);
+      // Far out the estimate (about 0.5 r log r) overflows in r^power and exceeds the distance to the ball that
+      // holds the set (radius 2^(1 / (power - 1)): beyond it |w| grows every iteration). From r = 2 on the field
+      // is the smaller of the two (a bound, finite, and continuous: at r = 2 the estimate is the smaller one);
+      // from r = 8 on, where the estimate is well above the ball's distance, that distance alone.
+      const T set_radius(static_cast<decltype(value_of(T{}))>(std::pow(2.0, 1.0 / (tape.constants[a] - 1))));
+      const T big = max(abs(p.x), max(abs(p.y), abs(p.z)));
+      if (value_of(big) > 8) return big * length(p / big) - set_radius;  // scaled: |p|^2 overflows float at 2e19
+      const T ball = sqrt(m) - set_radius;
       T dz(1);
       for (int i = 0; i < iterations; ++i) {
         const T r = sqrt(m);
@@ -190,7 +198,8 @@ inline T eval_primitive(const Tape& tape, const Instr& in, v3<T> p) {
         if (m > bailout2) break;
       }
       if (!(value_of(m) > 0)) return -sqrt(dot(p, p));
-      return T(0.25) * log(m) * sqrt(m) / dz;
+      const T estimate = T(0.25) * log(m) * sqrt(m) / dz;
+      return value_of(dot(p, p)) > 4 && value_of(ball) < value_of(estimate) ? ball : estimate;
     }
     case TapeOp::circle: return length(v2<T>(p.x - k(0), p.y - k(1))) - k(2);
     case TapeOp::rect: {

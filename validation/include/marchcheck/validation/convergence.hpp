@@ -2,6 +2,7 @@
 // steps a grazing ray needs against the pi * sqrt(2R / b) law.
 #pragma once
 
+#include "marchcheck/march/marcher.hpp"
 #include "marchcheck/sdf/scene.hpp"
 
 #include <vector>
@@ -27,8 +28,9 @@ struct GrazingRow {
   double clearance;  // b: the ray passes the unit sphere at 1 + b from its centre
   int steps;         // steps the sphere tracer needed to get past (miss_far)
   double law;        // pi * sqrt(2 R / b)
+  march::Outcome outcome;  // miss_far when it got past; miss_steps when max_steps ran out first
 };
-// Double-precision sphere tracing past a unit sphere (hit_eps below every clearance).
-std::vector<GrazingRow> grazing_study(const std::vector<double>& clearances);
+// Double-precision sphere tracing past a unit sphere (hit_eps below every clearance), at most max_steps each.
+std::vector<GrazingRow> grazing_study(const std::vector<double>& clearances, int max_steps = 1 << 24);
 
 }  // namespace marchcheck::validation

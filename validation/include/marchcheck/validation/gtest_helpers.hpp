@@ -5,6 +5,7 @@
 // A field is any callable double(glm::dvec3).
 #pragma once
 
+#include "marchcheck/validation/lipschitz.hpp"
 #include "marchcheck/validation/mesh_reference.hpp"
 #include "marchcheck/validation/reference.hpp"
 
@@ -39,22 +40,6 @@ template <class Field>
       return ::testing::AssertionFailure() << "f has the wrong sign at (" << p.x << ", " << p.y << ", " << p.z << ")";
   }
   return ::testing::AssertionSuccess();
-}
-
-// Largest |f(a) - f(b)| / |a - b| over random nearby pairs in [lo, hi] (finite differences, fixed seed).
-template <class Field>
-double measured_slope(const Field& f, glm::dvec3 lo, glm::dvec3 hi, int pairs = 20000, double step = 1e-5,
-                      unsigned seed = 2) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(0, 1);
-  std::normal_distribution<double> g;
-  double worst = 0;
-  for (int i = 0; i < pairs; ++i) {
-    const glm::dvec3 p = lo + (hi - lo) * glm::dvec3(u(rng), u(rng), u(rng));
-    const glm::dvec3 d = glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));
-    worst = std::max(worst, std::abs(f(p + d * step) - f(p)) / step);
-  }
-  return worst;
 }
 
 // Finite differences over random nearby pairs never exceed L (plus tolerance for rounding).

@@ -1,0 +1,29 @@
+// The measured Lipschitz constant of a field: the largest slope over random nearby pairs (a lower bound on the
+// true constant, which the tests and the hard-case battery compare declarations and step sizes against).
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace marchcheck::validation {
+
+// Largest |f(a) - f(b)| / |a - b| over random nearby pairs in [lo, hi] (finite differences, fixed seed).
+template <class Field>
+double measured_slope(const Field& f, glm::dvec3 lo, glm::dvec3 hi, int pairs = 20000, double step = 1e-5,
+                      unsigned seed = 2) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::normal_distribution<double> g;
+  double worst = 0;
+  for (int i = 0; i < pairs; ++i) {
+    const glm::dvec3 p = lo + (hi - lo) * glm::dvec3(u(rng), u(rng), u(rng));
+    const glm::dvec3 d = glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));
+    worst = std::max(worst, std::abs(f(p + d * step) - f(p)) / step);
+  }
+  return worst;
+}
+
+}  // namespace marchcheck::validation
