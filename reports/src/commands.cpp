@@ -176,7 +176,6 @@ int run_stability(const StabilityCommand& cmd, std::ostream& out, std::ostream& 
     }
   }
   const auto cases = validation::run_stability({cmd.naive, cmd.full});
-  nlohmann::ordered_json list = nlohmann::ordered_json::array();
   int stable = 0;
   out << std::left << std::setw(34) << "case" << std::setw(10) << "result" << "numbers\n";
   for (const auto& c : cases) {
@@ -185,27 +184,19 @@ int run_stability(const StabilityCommand& cmd, std::ostream& out, std::ostream& 
     constexpr int kShown = 6;
     std::ostringstream numbers;
     numbers << std::setprecision(3);
-    nlohmann::ordered_json metrics = nlohmann::ordered_json::object();
     int shown = 0;
-    for (const auto& [k, v] : c.metrics) {
+    for (const auto& [k, v] : c.metrics)
       if (shown++ < kShown) numbers << (shown > 1 ? " " : "") << k << "=" << v;
-      metrics[k] = std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr;
-    }
     if (shown > kShown) numbers << " (+" << shown - kShown << " in --json)";
     out << std::left << std::setw(34) << c.name << std::setw(10) << (c.stable ? "stable" : "UNSTABLE") << numbers.str()
         << "\n";
     if (!c.stable) out << std::string(44, ' ') << "why: " << c.detail << "\n";
-    list.push_back({{"name", c.name}, {"checks", c.checks}, {"criterion", c.criterion}, {"naive_variant", c.naive},
-                    {"stable", c.stable}, {"detail", c.detail}, {"metrics", metrics}});
   }
   const bool all_stable = stable == static_cast<int>(cases.size());
   out << stable << " of " << cases.size() << " cases stable" << (cmd.naive ? " (naive variants)" : "") << "\n";
   if (cmd.json) {
     try {
-      write_text_atomically(*cmd.json, nlohmann::ordered_json{{"kind", "stability"}, {"naive", cmd.naive},
-                                                               {"full", cmd.full}, {"stable", all_stable},
-                                                               {"cases", list}}
-                                               .dump(2) + "\n");
+      write_text_atomically(*cmd.json, stability_json(cases, {cmd.naive, cmd.full}));
     } catch (const std::exception& e) {
       err << "marchcheck stability: " << e.what() << "\n";
       return kBadInput;

@@ -8,6 +8,7 @@
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/validation/convergence.hpp"
 #include "marchcheck/validation/mesh_loader.hpp"
+#include "marchcheck/validation/stability.hpp"
 #include "marchcheck/validation/sweep.hpp"
 #include "marchcheck/validation/validate.hpp"
 
@@ -158,6 +159,9 @@ class Builder {
     for (const auto& r : reports_) results.push_back(r.result);
     write_text_atomically((root_ / "data" / "validate.json").string(), validate_json(results));
     studies();
+    step("stability battery");
+    stability_ = validation::run_stability();
+    write_text_atomically((root_ / "data" / "stability.json").string(), stability_json(stability_, {}));
     step("plots");
     draw_plots(root_ / "data", root_ / "plots");
     write_text_atomically((root_ / "index.html").string(), html());
@@ -261,7 +265,8 @@ class Builder {
 
   bool as_expected(const SceneReport& r) const { return r.scene.defects.empty() == r.result.pass(); }
   bool all_as_expected() const {
-    return std::all_of(reports_.begin(), reports_.end(), [&](const SceneReport& r) { return as_expected(r); });
+    return std::all_of(reports_.begin(), reports_.end(), [&](const SceneReport& r) { return as_expected(r); }) &&
+           std::all_of(stability_.begin(), stability_.end(), [](const auto& c) { return c.stable; });
   }
 
   std::string html() const {
@@ -296,7 +301,9 @@ class Builder {
                             : std::to_string(correct_fail) + " of " + std::to_string(correct) + " correct scenes fail a check")
       << "; " << (uncaught == 0 ? "every" : std::to_string(caught) + " of " + std::to_string(defects)) << " seed-defect variant"
       << (uncaught == 0 ? " is" : "s are") << " caught by a failing check.</b> " << passed << " of " << checks
-      << " checks pass in all (a defect variant's failing checks are the ones that catch it).";
+      << " checks pass in all (a defect variant's failing checks are the ones that catch it). Hard cases: <a href=\"#stability\">"
+      << std::count_if(stability_.begin(), stability_.end(), [](const auto& c) { return c.stable; }) << " of "
+      << stability_.size() << " stable</a>.";
     std::vector<const SceneReport*> unexpected;
     for (const auto& r : reports_)
       if (!as_expected(r)) unexpected.push_back(&r);
@@ -363,6 +370,7 @@ class Builder {
     h << "<p>" << sweep_summary() << "</p>\n<p>Data behind the plots: <a href=\"data/\">data/</a> (JSON and CSV, as "
          "<code>marchcheck sweep</code> writes them).</p>\n";
 
+    stability_section(h);
     for (const auto& r : reports_) scene_section(h, r);
     h << "<script>\n// Report health, read by the project's browser test: every image must load.\n"
          "window.addEventListener('load', () => {\n"
@@ -407,6 +415,21 @@ class Builder {
       s << "Shadow bias " << escape(p.settings[0].second) << ": false shadow " << number(metric(p.metrics, "shadow.false_shadow"))
         << ", false lit " << number(metric(p.metrics, "shadow.false_lit")) << ". ";
     return s.str();
+  }
+
+  void stability_section(std::ostringstream& h) const {
+    const auto stable = std::count_if(stability_.begin(), stability_.end(), [](const auto& c) { return c.stable; });
+    h << "<h2 id=\"stability\">Hard cases (<code>marchcheck stability</code>): " << stable << " of " << stability_.size()
+      << " stable</h2>\n<table><tr><th class=\"l\">case</th><th class=\"l\">result</th><th class=\"l\">checks</th>"
+         "<th class=\"l\">stable when</th><th class=\"l\">numbers</th></tr>\n";
+    for (const auto& c : stability_) {
+      std::string numbers;
+      for (const auto& [k, v] : c.metrics) numbers += (numbers.empty() ? "" : ", ") + escape(k) + " " + number(v, 3);
+      h << "<tr><td class=\"l\">" << escape(c.name) << "</td><td class=\"l " << (c.stable ? "pass\">stable" : "fail\">UNSTABLE")
+        << "</td><td class=\"l\">" << escape(c.checks) << "</td><td class=\"l\">" << escape(c.criterion)
+        << (c.stable ? "" : "<br><b>" + escape(c.detail) + "</b>") << "</td><td class=\"l\">" << numbers << "</td></tr>\n";
+    }
+    h << "</table>\n";
   }
 
   void scene_section(std::ostringstream& h, const SceneReport& r) const {
@@ -454,6 +477,7 @@ class Builder {
   std::ostream& err_;
   std::vector<SceneReport> reports_;
   validation::SweepResult steps_sweep_, shadow_sweep_;
+  std::vector<validation::StabilityCase> stability_;
 };
 
 }  // namespace

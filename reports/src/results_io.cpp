@@ -88,6 +88,20 @@ std::string sweep_json(const validation::SweepResult& result) {
          "\n";
 }
 
+std::string stability_json(const std::vector<validation::StabilityCase>& cases, const validation::StabilityOptions& options) {
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  bool all_stable = true;
+  for (const auto& c : cases) {
+    all_stable = all_stable && c.stable;
+    list.push_back({{"name", c.name}, {"checks", c.checks}, {"criterion", c.criterion}, {"naive_variant", c.naive},
+                    {"stable", c.stable}, {"detail", c.detail}, {"metrics", metrics_object(c.metrics)}});
+  }
+  return nlohmann::ordered_json{{"kind", "stability"}, {"naive", options.naive}, {"full", options.full},
+                                {"stable", all_stable}, {"cases", list}}
+             .dump(2) +
+         "\n";
+}
+
 std::string sweep_csv(const validation::SweepResult& result) {
   std::set<std::string> names;
   for (const auto& p : result.points)

@@ -72,7 +72,8 @@ struct ReportCommand {
 };
 // Validates the scenes, runs the standard sweeps and studies, plots them, and writes DIR/index.html. The
 // report is built in a sibling folder and swapped into place, so an interrupted run leaves the previous
-// report whole. Exit 0 when every correct scene passes and every defect variant is caught, 1 otherwise.
+// report whole. Exit 0 when every correct scene passes, every defect variant is caught and every hard case of
+// the stability battery is stable; 1 otherwise.
 int run_report(const ReportCommand& cmd, std::ostream& out, std::ostream& err);
 
 }  // namespace marchcheck::reports
