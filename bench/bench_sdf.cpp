@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <random>
 #include <vector>
 
@@ -103,6 +104,16 @@ const bool registered = [] {
       const auto& pts = points();
       run_threaded(state, [&](int begin, int end, float* out) {
         for (int i = begin; i < end; ++i) out[i] = sdf::evaluate<float>(tape, pts.p[static_cast<size_t>(i)]);
+      });
+    })->Arg(1)->Arg(all)->ArgName("threads")->UseRealTime();
+    benchmark::RegisterBenchmark(("BM_SceneBatch/" + name).c_str(), [name](benchmark::State& state) {
+      const sdf::Tape tape = scene_tape(name);
+      const auto& pts = points();
+      run_threaded(state, [&](int begin, int end, float* out) {
+        for (int i = begin; i < end; i += sdf::kBatch) {
+          const auto at = static_cast<size_t>(i);
+          sdf::evaluate_batch(tape, &pts.x[at], &pts.y[at], &pts.z[at], out + i, std::min(sdf::kBatch, end - i));
+        }
       });
     })->Arg(1)->Arg(all)->ArgName("threads")->UseRealTime();
   }
