@@ -1,6 +1,7 @@
 #include "marchcheck/march/camera.hpp"
 
 #include <cmath>
+#include <utility>
 #include <numbers>
 
 namespace marchcheck::march {
@@ -9,15 +10,13 @@ namespace {
 
 constexpr double kDegree = std::numbers::pi / 180;
 
-// Solves g(x) = target for x by Newton's method with a finite-difference Jacobian, from x0.
-template <class G>
-glm::dvec2 solve2(const G& g, glm::dvec2 target, glm::dvec2 x) {
+// Solves g(x) = target for x by Newton's method from x0; jacobian(x) returns g's Jacobian columns (dg/dx, dg/dy).
+template <class G, class J>
+glm::dvec2 solve2(const G& g, const J& jacobian, glm::dvec2 target, glm::dvec2 x) {
   for (int i = 0; i < 30; ++i) {
     const glm::dvec2 r = g(x) - target;
     if (std::abs(r.x) + std::abs(r.y) < 1e-15) break;
-    const double h = 1e-7 * (1 + std::abs(x.x) + std::abs(x.y));
-    const glm::dvec2 jx = (g(x + glm::dvec2(h, 0)) - g(x - glm::dvec2(h, 0))) / (2 * h);
-    const glm::dvec2 jy = (g(x + glm::dvec2(0, h)) - g(x - glm::dvec2(0, h))) / (2 * h);
+    const auto [jx, jy] = jacobian(x);
     const double det = jx.x * jy.y - jy.x * jx.y;
     if (!(std::abs(det) > 0)) break;
     x -= glm::dvec2(jy.y * r.x - jy.x * r.y, -jx.y * r.x + jx.x * r.y) / det;
@@ -61,7 +60,17 @@ glm::dvec2 Camera::distort(glm::dvec2 u) const {
 
 glm::dvec2 Camera::undistort(glm::dvec2 d) const {
   if (spec_.model != sdf::CameraModel::intrinsics) return d;
-  return solve2([this](glm::dvec2 u) { return distort(u); }, d, d);
+  // The Jacobian in closed form: one distortion per Newton step (every pixel's ray goes through here).
+  const double k1 = spec_.k1, k2 = spec_.k2, p1 = spec_.p1, p2 = spec_.p2;
+  const auto jacobian = [=](glm::dvec2 u) {
+    const double r2 = u.x * u.x + u.y * u.y, radial = 1 + k1 * r2 + k2 * r2 * r2;
+    const double dradial = 2 * (k1 + 2 * k2 * r2);  // d radial / d x = dradial * x, likewise for y
+    return std::pair{glm::dvec2(radial + u.x * dradial * u.x + 2 * p1 * u.y + 6 * p2 * u.x,
+                                u.y * dradial * u.x + 2 * p1 * u.x + 2 * p2 * u.y),
+                     glm::dvec2(u.x * dradial * u.y + 2 * p1 * u.x + 2 * p2 * u.y,
+                                radial + u.y * dradial * u.y + 6 * p1 * u.y + 2 * p2 * u.x)};
+  };
+  return solve2([this](glm::dvec2 u) { return distort(u); }, jacobian, d, d);
 }
 
 Ray Camera::ray(double px, double py) const {
