@@ -118,6 +118,7 @@ struct Context {
   Pipeline pipeline;
   std::unique_ptr<MeshOccluder> meshes;  // only when the scene has triangle meshes
   const SurfaceOracle* oracle;           // reference renders
+  std::vector<glm::dvec3> light_positions;  // at the scene's time, computed once rather than per pixel
 };
 
 template <class T>
@@ -165,7 +166,7 @@ glm::dvec3 direct_light(const Context& ctx, glm::dvec3 p, glm::dvec3 n, glm::dve
   glm::dvec3 color = albedo * fx.ambient * ao;
   for (size_t i = 0; i < ctx.scene.lights.size(); ++i) {
     const auto& light = ctx.scene.lights[i];
-    const glm::dvec3 l = light.type == sdf::LightType::point ? glm::normalize(light.position_at(ctx.scene.time) - p)
+    const glm::dvec3 l = light.type == sdf::LightType::point ? glm::normalize(ctx.light_positions[i] - p)
                                                              : -glm::normalize(light.direction);
     const double cosine = glm::dot(n, l);
     double diffuse = fx.diffuse == sdf::Diffuse::unclamped ? cosine
@@ -198,10 +199,10 @@ constexpr size_t kMaxLights = 16;
 
 // Unit direction from p toward a light, and its distance (infinite for a directional light).
 template <class T>
-std::pair<Vec<T>, T> toward_light(const sdf::Light& light, double time, Vec<T> p) {
+std::pair<Vec<T>, T> toward_light(const sdf::Light& light, glm::dvec3 position, Vec<T> p) {
   if (light.type != sdf::LightType::point)
     return {-glm::normalize(Vec<T>(light.direction)), std::numeric_limits<T>::infinity()};
-  const Vec<T> d = Vec<T>(light.position_at(time)) - p;
+  const Vec<T> d = Vec<T>(position) - p;
   const T dist = glm::length(d);
   return {d / dist, dist};
 }
@@ -240,7 +241,7 @@ struct Tracer {
         const auto& light = ctx.scene.lights[i];
         visibility[i] = 1;
         if (light.shadow == sdf::ShadowMode::none) continue;
-        const glm::dvec3 pd(p), nd(n), lp = light.position_at(ctx.scene.time);
+        const glm::dvec3 pd(p), nd(n), lp = ctx.light_positions[i];
         const bool point = light.type == sdf::LightType::point;
         const glm::dvec3 l = point ? glm::normalize(lp - pd) : -glm::normalize(light.direction);
         const double lift = 1e-7 * (1 + glm::length(pd));
@@ -252,7 +253,7 @@ struct Tracer {
       const auto& light = ctx.scene.lights[i];
       visibility[i] = 1;
       if (light.shadow == sdf::ShadowMode::none) continue;
-      const auto [to_light, dist] = toward_light(light, ctx.scene.time, p);
+      const auto [to_light, dist] = toward_light(light, ctx.light_positions[i], p);
       const auto sv = shadow_visibility<T>(field, p, n, to_light, dist, t, light, ctx.scene.march, ctx.march);
       visibility[i] = sv.visibility;
       evals += static_cast<std::uint64_t>(sv.evals);
@@ -355,12 +356,20 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     packet_pass(kMarch, [&] {
       PacketRay<T> rays[kTile * kTile];
       RayRecord<T> records[kTile * kTile];
-      each([&](PixelState& p, int x, int y) {
-        if (!ctx.meshes) {
-          const Ray ray = ctx.camera.ray(x + 0.5, y + 0.5);
-          p.origin = V(ray.origin);
-          p.direction = V(ray.direction);
-        }
+      if (!ctx.meshes) {  // else the mesh stage made the rays
+        double xs[kTile * kTile], ys[kTile * kTile];
+        Ray camera_rays[kTile * kTile];
+        each([&](PixelState& p, int x, int y) {
+          xs[index(p)] = x + 0.5;
+          ys[index(p)] = y + 0.5;
+        });
+        ctx.camera.rays(xs, ys, tile_pixels, camera_rays);
+        each([&](PixelState& p, int, int) {
+          p.origin = V(camera_rays[index(p)].origin);
+          p.direction = V(camera_rays[index(p)].direction);
+        });
+      }
+      each([&](PixelState& p, int, int) {
         // The march stops at the mesh, as the seed's does at the depth buffer's distance.
         rays[index(p)] = {p.origin, p.direction, p.mesh.hit ? p.mesh.t : s.max_dist};
       });
@@ -453,19 +462,19 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
       RayRecord<T> records[kTile * kTile];
       int which[kTile * kTile];
       each([&](PixelState& p, int, int) { p.batched_evals = 0; });
-      for (const auto& light : ctx.scene.lights) {
+      for (size_t li = 0; li < ctx.scene.lights.size(); ++li) {
+        const auto& light = ctx.scene.lights[li];
         if (light.shadow == sdf::ShadowMode::none) continue;
         int count = 0;
         each([&](PixelState& p, int, int) {
           if (!p.hit && !p.on_mesh) return;
           const V at = p.origin + p.direction * p.record.t;
-          const auto [to_light, dist] = toward_light(light, ctx.scene.time, at);
+          const auto [to_light, dist] = toward_light(light, ctx.light_positions[li], at);
           starts[count] = shadow_start(at, p.normal, dist, p.record.t, light, s, ctx.march);
           rays[count] = {starts[count].origin, to_light, starts[count].max_dist};
           which[count++] = index(p);
         });
         march_packet(ctx.tape, rays, records, count, s, ctx.march);
-        const size_t li = static_cast<size_t>(&light - ctx.scene.lights.data());
         for (int i = 0; i < count; ++i) {
           auto& p = px[static_cast<size_t>(which[i])];
           p.visibility[li] = hard_visibility(records[i], starts[i], light);
@@ -547,8 +556,9 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const
   const int w = scene.width, h = scene.height;
   if (scene.lights.size() > kMaxLights) throw std::invalid_argument("at most 16 lights");
   Context ctx{scene,  sdf::compile(scene.root, scene.time), Camera(scene.camera, w, h), {}, plan(scene, aovs, oracle),
-              nullptr, oracle};
+              nullptr, oracle, {}};
   ctx.march.lipschitz = sdf::derive_info(scene.root, scene.time).lipschitz;
+  for (const auto& light : scene.lights) ctx.light_positions.push_back(light.position_at(scene.time));
   ctx.march.footprint_at_0 = ctx.camera.footprint_at_0();
   ctx.march.footprint_slope = ctx.camera.footprint_slope();
   if (ctx.pipeline.textures) soil_texture_path();
