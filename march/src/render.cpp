@@ -446,12 +446,30 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
       return n.evals;
     });
   }
-  if (pipe.materials)
-    stage(kMaterial, [&](PixelState& p, int, int) {
-      if (!p.hit) return 0;
-      p.material = sdf::sample(ctx.tape, V(p.origin + p.direction * p.record.t)).material;
-      return 1;
+  if (pipe.materials) {
+    packet_pass(kMaterial, [&] {
+      alignas(64) T xs[kTile * kTile], ys[kTile * kTile], zs[kTile * kTile], values[kTile * kTile];
+      int materials[kTile * kTile], which[kTile * kTile];
+      int count = 0;
+      each([&](PixelState& p, int, int) {
+        p.batched_evals = 0;
+        if (!p.hit) return;
+        const V at = p.origin + p.direction * p.record.t;
+        xs[count] = at.x;
+        ys[count] = at.y;
+        zs[count] = at.z;
+        which[count++] = index(p);
+      });
+      for (int b = 0; b < count; b += sdf::kBatch)
+        sdf::sample_batch(ctx.tape, xs + b, ys + b, zs + b, values + b, materials + b, std::min(sdf::kBatch, count - b));
+      for (int i = 0; i < count; ++i) {
+        auto& p = px[static_cast<size_t>(which[i])];
+        p.material = materials[i];
+        p.batched_evals = 1;
+      }
     });
+    stage(kMaterial, [&](PixelState& p, int, int) { return p.batched_evals; });
+  }
   Tracer<T> tracer{ctx, counters};
   bool batched_shadows = !ctx.oracle;  // hard shadows march in packets; soft ones one ray at a time
   for (const auto& light : ctx.scene.lights) batched_shadows = batched_shadows && light.shadow != sdf::ShadowMode::soft;

@@ -7,9 +7,10 @@ namespace marchcheck::sdf {
 
 namespace {
 
-template <class T>
+template <class T, bool WithMaterial>
 struct Stacks {
   alignas(64) T v[kMaxValueStack][kBatch];
+  int m[WithMaterial ? kMaxValueStack : 1][kBatch];  // the material of each value
   alignas(64) T x[kMaxPointStack][kBatch];
   alignas(64) T y[kMaxPointStack][kBatch];
   alignas(64) T z[kMaxPointStack][kBatch];
@@ -17,20 +18,24 @@ struct Stacks {
 
 // One instruction for each lane through the one-point code: the lane's top two values and top point are copied
 // to small stacks, stepped, and copied back (an instruction moves each stack by at most one entry).
-template <class T>
-void step_lanes(const Tape& tape, const Instr& in, Stacks<T>& s, int& vt, int& pt, int n) {
+template <class T, bool WithMaterial>
+void step_lanes(const Tape& tape, const Instr& in, Stacks<T, WithMaterial>& s, int& vt, int& pt, int n) {
   const int below = vt >= 1 ? 1 : vt;  // index of the lane's old top in the small stack
   int lvt = below, lpt = 0;
   for (int i = 0; i < n; ++i) {
     T values[3];
+    int materials[3];
     glm::vec<3, T> points[2];
     for (int j = 0; j <= below; ++j) values[j] = s.v[vt - below + j][i];
+    if constexpr (WithMaterial)
+      for (int j = 0; j <= below; ++j) materials[j] = s.m[vt - below + j][i];
     points[0] = {s.x[pt][i], s.y[pt][i], s.z[pt][i]};
     lvt = below;
     lpt = 0;
-    int no_material[1];
-    detail::step<T, false>(tape, in, values, no_material, lvt, points, lpt);
+    detail::step<T, WithMaterial>(tape, in, values, materials, lvt, points, lpt);
     for (int j = 0; j <= lvt; ++j) s.v[vt - below + j][i] = values[j];
+    if constexpr (WithMaterial)
+      for (int j = 0; j <= lvt; ++j) s.m[vt - below + j][i] = materials[j];
     if (lpt == 1) {
       s.x[pt + 1][i] = points[1].x;
       s.y[pt + 1][i] = points[1].y;
@@ -41,11 +46,33 @@ void step_lanes(const Tape& tape, const Instr& in, Stacks<T>& s, int& vt, int& p
   pt += lpt;
 }
 
-}  // namespace
+// The one-point code's rule for a binary instruction: the result's material is b's where b decides the value.
+template <class T, bool WithMaterial>
+void combine_materials(const Instr& in, Stacks<T, WithMaterial>& s, int vt, int n) {
+  if constexpr (WithMaterial) {
+    const T* __restrict x = s.v[vt];
+    const T* __restrict b = s.v[vt + 1];
+    int* __restrict m = s.m[vt];
+    const int* __restrict mb = s.m[vt + 1];
+    switch (in.op) {
+      case TapeOp::min:
+      case TapeOp::smooth_min:
+        for (int i = 0; i < n; ++i) m[i] = b[i] < x[i] ? mb[i] : m[i];
+        break;
+      case TapeOp::max:
+      case TapeOp::smooth_max:
+        for (int i = 0; i < n; ++i) m[i] = x[i] < b[i] ? mb[i] : m[i];
+        break;
+      default:
+        for (int i = 0; i < n; ++i) m[i] = x[i] < -b[i] ? mb[i] : m[i];
+        break;
+    }
+  }
+}
 
-template <class T>
-void evaluate_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int n) {
-  Stacks<T> s;
+template <class T, bool WithMaterial>
+void run_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int* material, int n) {
+  Stacks<T, WithMaterial> s;
   int vt = -1, pt = 0;
   for (int i = 0; i < n; ++i) {
     s.x[0][i] = x[i];
@@ -54,6 +81,13 @@ void evaluate_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out
   }
   for (const Instr& in : tape.code) {
     const std::uint32_t a = in.arg;
+    if constexpr (WithMaterial) {
+      // A vectorised primitive pushes a value whose material is its own (lane-by-lane ones set theirs).
+      const bool vector_primitive = in.op == TapeOp::sphere || in.op == TapeOp::plane || in.op == TapeOp::box ||
+                                    in.op == TapeOp::round_box || in.op == TapeOp::torus;
+      if (vector_primitive)
+        for (int i = 0; i < n; ++i) s.m[vt + 1][i] = in.material;
+    }
     auto k = [&](std::uint32_t i) { return tape.c<T>(a + i); };
     const T* __restrict px = s.x[pt];
     const T* __restrict py = s.y[pt];
@@ -116,6 +150,7 @@ void evaluate_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out
       case TapeOp::min:
       case TapeOp::max:
       case TapeOp::subtract: {
+        combine_materials(in, s, vt - 1, n);
         const T* __restrict b = s.v[vt--];
         T* __restrict r = s.v[vt];
         if (in.op == TapeOp::min) {
@@ -130,6 +165,7 @@ void evaluate_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out
       case TapeOp::smooth_min:
       case TapeOp::smooth_max:
       case TapeOp::smooth_subtract: {
+        combine_materials(in, s, vt - 1, n);
         const T* __restrict b = s.v[vt--];
         T* __restrict r = s.v[vt];
         const T kk = k(0);
@@ -156,7 +192,10 @@ void evaluate_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out
         for (int i = 0; i < n; ++i) r[i] *= k0;
         break;
       }
-      case TapeOp::set_material: break;
+      case TapeOp::set_material:
+        if constexpr (WithMaterial)
+          for (int i = 0; i < n; ++i) s.m[vt][i] = in.material;
+        break;
       case TapeOp::p_translate:
       case TapeOp::p_scale: {
         ++pt;
@@ -199,8 +238,24 @@ void evaluate_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out
     }
   }
   for (int i = 0; i < n; ++i) out[i] = s.v[0][i];
+  if constexpr (WithMaterial)
+    for (int i = 0; i < n; ++i) material[i] = s.m[0][i];
 }
 
+}  // namespace
+
+template <class T>
+void evaluate_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int n) {
+  run_batch<T, false>(tape, x, y, z, out, nullptr, n);
+}
+
+template <class T>
+void sample_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int* material, int n) {
+  run_batch<T, true>(tape, x, y, z, out, material, n);
+}
+
+template void sample_batch<float>(const Tape&, const float*, const float*, const float*, float*, int*, int);
+template void sample_batch<double>(const Tape&, const double*, const double*, const double*, double*, int*, int);
 template void evaluate_batch<float>(const Tape&, const float*, const float*, const float*, float*, int);
 template void evaluate_batch<double>(const Tape&, const double*, const double*, const double*, double*, int);
 

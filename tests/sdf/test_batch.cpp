@@ -28,7 +28,8 @@ std::vector<glm::vec<3, T>> points(int count) {
 bool same_bits(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
 bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
-// How many points evaluate_batch(batch_tape) and evaluate(point_tape) disagree on (NaN equal to NaN only when
+// How many points evaluate_batch / sample_batch (batch_tape) and evaluate / sample (point_tape) disagree on
+// (values or materials) (NaN equal to NaN only when
 // the bits match), over batches of 64, 37 and 1 points.
 template <class T>
 int mismatches(const Tape& batch_tape, const Tape& point_tape) {
@@ -42,8 +43,14 @@ int mismatches(const Tape& batch_tape, const Tape& point_tape) {
       y[i] = pts[at + static_cast<size_t>(i)].y;
       z[i] = pts[at + static_cast<size_t>(i)].z;
     }
+    int material[kBatch];
     evaluate_batch(batch_tape, x, y, z, f, n);
     for (int i = 0; i < n; ++i) bad += !same_bits(f[i], evaluate(point_tape, pts[at + static_cast<size_t>(i)]));
+    sample_batch(batch_tape, x, y, z, f, material, n);
+    for (int i = 0; i < n; ++i) {
+      const Sample<T> one = sample(point_tape, pts[at + static_cast<size_t>(i)]);
+      bad += !same_bits(f[i], one.distance) || material[i] != one.material;
+    }
     at += static_cast<size_t>(n);
   }
   return bad;
@@ -81,6 +88,13 @@ TEST(Batch, EveryVectorisedInstructionMatchesTheOnePointTapeBitForBit) {
 TEST(Batch, AFieldOneRoundingApartIsCaught) {
   const Tape one = compile(translate({0, 1.2, 0}, sphere(1))), wider = compile(translate({0, 1.2, 0}, sphere(1 + 0x1p-23)));
   EXPECT_GT(mismatches<float>(wider, one), 50);
+}
+
+// The material comparison can fail too: the same shapes with the sphere's material changed are caught.
+TEST(Batch, AnotherMaterialIsCaught) {
+  const Tape one = compile(unite({translate({0, 1.2, 0}, sphere(1, 0)), plane({0, 1, 0}, 0, 1)}));
+  const Tape other = compile(unite({translate({0, 1.2, 0}, sphere(1, 2)), plane({0, 1, 0}, 0, 1)}));
+  EXPECT_GT(mismatches<float>(other, one), 0);
 }
 
 }  // namespace

@@ -348,4 +348,8 @@ inline constexpr int kBatch = 64;
 template <class T>
 void evaluate_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int n);
 
+// evaluate_batch, and material[i] = sample(tape, point i).material.
+template <class T>
+void sample_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int* material, int n);
+
 }  // namespace marchcheck::sdf
