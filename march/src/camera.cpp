@@ -1,6 +1,9 @@
 #include "marchcheck/march/camera.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <utility>
 #include <numbers>
 
 namespace marchcheck::march {
@@ -9,20 +12,40 @@ namespace {
 
 constexpr double kDegree = std::numbers::pi / 180;
 
-// Solves g(x) = target for x by Newton's method with a finite-difference Jacobian, from x0.
-template <class G>
-glm::dvec2 solve2(const G& g, glm::dvec2 target, glm::dvec2 x) {
-  for (int i = 0; i < 30; ++i) {
-    const glm::dvec2 r = g(x) - target;
-    if (std::abs(r.x) + std::abs(r.y) < 1e-15) break;
-    const double h = 1e-7 * (1 + std::abs(x.x) + std::abs(x.y));
-    const glm::dvec2 jx = (g(x + glm::dvec2(h, 0)) - g(x - glm::dvec2(h, 0))) / (2 * h);
-    const glm::dvec2 jy = (g(x + glm::dvec2(0, h)) - g(x - glm::dvec2(0, h))) / (2 * h);
-    const double det = jx.x * jy.y - jy.x * jx.y;
-    if (!(std::abs(det) > 0)) break;
-    x -= glm::dvec2(jy.y * r.x - jy.x * r.y, -jx.y * r.x + jx.x * r.y) / det;
+// Brown-Conrady distortion of normalised image coordinates, and its Jacobian columns (d/dx, d/dy) in closed form.
+struct Lens {
+  double k1, k2, p1, p2;
+  glm::dvec2 distort(glm::dvec2 u) const {
+    const double r2 = u.x * u.x + u.y * u.y;
+    const double radial = 1 + k1 * r2 + k2 * r2 * r2;
+    return {u.x * radial + 2 * p1 * u.x * u.y + p2 * (r2 + 2 * u.x * u.x),
+            u.y * radial + p1 * (r2 + 2 * u.y * u.y) + 2 * p2 * u.x * u.y};
   }
-  return x;
+  std::pair<glm::dvec2, glm::dvec2> jacobian(glm::dvec2 u) const {
+    const double r2 = u.x * u.x + u.y * u.y, radial = 1 + k1 * r2 + k2 * r2 * r2;
+    const double dradial = 2 * (k1 + 2 * k2 * r2);  // d radial / d x = dradial * x, likewise for y
+    return {glm::dvec2(radial + u.x * dradial * u.x + 2 * p1 * u.y + 6 * p2 * u.x,
+                       u.y * dradial * u.x + 2 * p1 * u.x + 2 * p2 * u.y),
+            glm::dvec2(u.x * dradial * u.y + 2 * p1 * u.x + 2 * p2 * u.y,
+                       radial + u.y * dradial * u.y + 6 * p1 * u.y + 2 * p2 * u.x)};
+  }
+};
+
+constexpr int kNewtonSteps = 30;
+constexpr double kNewtonTolerance = 1e-15;  // |residual|_1 in normalised coordinates
+
+// One Newton step of distort(u) = target: whether it moved u (false once converged, or where it cannot move).
+// Written without branches so a loop over many pixels vectorises; both undistortions use it.
+struct NewtonStep {
+  glm::dvec2 next;
+  bool moved;
+};
+inline NewtonStep newton_step(const Lens& lens, glm::dvec2 target, glm::dvec2 u) {
+  const glm::dvec2 r = lens.distort(u) - target;
+  const auto [jx, jy] = lens.jacobian(u);
+  const double det = jx.x * jy.y - jy.x * jx.y;
+  const bool moved = !(std::abs(r.x) + std::abs(r.y) < kNewtonTolerance) & (std::abs(det) > 0);  // no branch
+  return {u - glm::dvec2(jy.y * r.x - jy.x * r.y, -jx.y * r.x + jx.x * r.y) / det, moved};
 }
 
 }  // namespace
@@ -53,15 +76,64 @@ Camera::Camera(const sdf::CameraSpec& spec, int width, int height) : spec_(spec)
 glm::dvec2 Camera::distort(glm::dvec2 u) const {
   // Lens distortion belongs to the intrinsics model only.
   if (spec_.model != sdf::CameraModel::intrinsics) return u;
-  const double r2 = u.x * u.x + u.y * u.y;
-  const double radial = 1 + spec_.k1 * r2 + spec_.k2 * r2 * r2;
-  return {u.x * radial + 2 * spec_.p1 * u.x * u.y + spec_.p2 * (r2 + 2 * u.x * u.x),
-          u.y * radial + spec_.p1 * (r2 + 2 * u.y * u.y) + 2 * spec_.p2 * u.x * u.y};
+  return Lens{spec_.k1, spec_.k2, spec_.p1, spec_.p2}.distort(u);
 }
 
 glm::dvec2 Camera::undistort(glm::dvec2 d) const {
   if (spec_.model != sdf::CameraModel::intrinsics) return d;
-  return solve2([this](glm::dvec2 u) { return distort(u); }, d, d);
+  const Lens lens{spec_.k1, spec_.k2, spec_.p1, spec_.p2};
+  glm::dvec2 u = d;
+  for (int i = 0; i < kNewtonSteps; ++i) {
+    const NewtonStep step = newton_step(lens, d, u);
+    if (!step.moved) break;
+    u = step.next;
+  }
+  return u;
+}
+
+Ray Camera::intrinsics_ray(glm::dvec2 undistorted) const {
+  const glm::dvec3 d = forward_ + right_ * undistorted.x - up_ * undistorted.y;
+  return {eye_, spec_.normalize_rays ? glm::normalize(d) : d};
+}
+
+void Camera::rays(const double* px, const double* py, int n, Ray* out) const {
+  if (spec_.model != sdf::CameraModel::intrinsics) {
+    for (int i = 0; i < n; ++i) out[i] = ray(px[i], py[i]);
+    return;
+  }
+  // undistort() for a block of pixels at once: each lane takes the same Newton steps as alone, and stops with it.
+  constexpr int kBlock = 64;
+  const Lens lens{spec_.k1, spec_.k2, spec_.p1, spec_.p2};
+  for (int base = 0; base < n; base += kBlock) {
+    const int m = std::min(kBlock, n - base);
+    double tx[kBlock], ty[kBlock], ux[kBlock], uy[kBlock];
+    std::int64_t moving[kBlock];
+    for (int i = 0; i < m; ++i) {
+      tx[i] = ux[i] = (px[base + i] - cx_) / fx_;
+      ty[i] = uy[i] = (py[base + i] - cy_) / fy_;
+      moving[i] = 1;
+    }
+    for (int step = 0; step < kNewtonSteps; ++step) {
+      std::int64_t any = 0;
+      for (int i = 0; i < m; ++i) {
+        const NewtonStep next = newton_step(lens, {tx[i], ty[i]}, {ux[i], uy[i]});
+        moving[i] &= static_cast<std::int64_t>(next.moved);
+        ux[i] = moving[i] ? next.next.x : ux[i];
+        uy[i] = moving[i] ? next.next.y : uy[i];
+        any |= moving[i];
+      }
+      if (!any) break;
+    }
+    // intrinsics_ray() lane by lane, as glm computes it: d = forward + right x - up y, d * (1 / sqrt(dot(d, d))).
+    double dx[kBlock], dy[kBlock], dz[kBlock], scale[kBlock];
+    for (int i = 0; i < m; ++i) {
+      dx[i] = forward_.x + right_.x * ux[i] - up_.x * uy[i];
+      dy[i] = forward_.y + right_.y * ux[i] - up_.y * uy[i];
+      dz[i] = forward_.z + right_.z * ux[i] - up_.z * uy[i];
+      scale[i] = spec_.normalize_rays ? 1.0 / std::sqrt(dx[i] * dx[i] + dy[i] * dy[i] + dz[i] * dz[i]) : 1.0;
+    }
+    for (int i = 0; i < m; ++i) out[base + i] = {eye_, glm::dvec3(dx[i] * scale[i], dy[i] * scale[i], dz[i] * scale[i])};
+  }
 }
 
 Ray Camera::ray(double px, double py) const {
@@ -79,11 +151,7 @@ Ray Camera::ray(double px, double py) const {
       const glm::dvec3 top = glm::mix(top_left, top_right, u), bottom = glm::mix(bottom_left, bottom_right, u);
       return {eye_, glm::normalize(glm::mix(top, bottom, v))};
     }
-    default: {
-      const glm::dvec2 n = undistort({(px - cx_) / fx_, (py - cy_) / fy_});
-      const glm::dvec3 d = forward_ + right_ * n.x - up_ * n.y;
-      return {eye_, spec_.normalize_rays ? glm::normalize(d) : d};
-    }
+    default: return intrinsics_ray(undistort({(px - cx_) / fx_, (py - cy_) / fy_}));
   }
 }
 

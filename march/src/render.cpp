@@ -3,6 +3,7 @@
 #include "marchcheck/march/effects.hpp"
 #include "marchcheck/march/mesh_occluder.hpp"
 #include "marchcheck/march/normals.hpp"
+#include "marchcheck/march/packet.hpp"
 #include "marchcheck/march/texture.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -117,6 +118,7 @@ struct Context {
   Pipeline pipeline;
   std::unique_ptr<MeshOccluder> meshes;  // only when the scene has triangle meshes
   const SurfaceOracle* oracle;           // reference renders
+  std::vector<glm::dvec3> light_positions;  // at the scene's time, computed once rather than per pixel
 };
 
 template <class T>
@@ -164,7 +166,7 @@ glm::dvec3 direct_light(const Context& ctx, glm::dvec3 p, glm::dvec3 n, glm::dve
   glm::dvec3 color = albedo * fx.ambient * ao;
   for (size_t i = 0; i < ctx.scene.lights.size(); ++i) {
     const auto& light = ctx.scene.lights[i];
-    const glm::dvec3 l = light.type == sdf::LightType::point ? glm::normalize(light.position_at(ctx.scene.time) - p)
+    const glm::dvec3 l = light.type == sdf::LightType::point ? glm::normalize(ctx.light_positions[i] - p)
                                                              : -glm::normalize(light.direction);
     const double cosine = glm::dot(n, l);
     double diffuse = fx.diffuse == sdf::Diffuse::unclamped ? cosine
@@ -194,6 +196,16 @@ glm::dvec3 direct_light(const Context& ctx, glm::dvec3 p, glm::dvec3 n, glm::dve
 }
 
 constexpr size_t kMaxLights = 16;
+
+// Unit direction from p toward a light, and its distance (infinite for a directional light).
+template <class T>
+std::pair<Vec<T>, T> toward_light(const sdf::Light& light, glm::dvec3 position, Vec<T> p) {
+  if (light.type != sdf::LightType::point)
+    return {-glm::normalize(Vec<T>(light.direction)), std::numeric_limits<T>::infinity()};
+  const Vec<T> d = Vec<T>(position) - p;
+  const T dist = glm::length(d);
+  return {d / dist, dist};
+}
 
 template <class T>
 struct Tracer {
@@ -229,7 +241,7 @@ struct Tracer {
         const auto& light = ctx.scene.lights[i];
         visibility[i] = 1;
         if (light.shadow == sdf::ShadowMode::none) continue;
-        const glm::dvec3 pd(p), nd(n), lp = light.position_at(ctx.scene.time);
+        const glm::dvec3 pd(p), nd(n), lp = ctx.light_positions[i];
         const bool point = light.type == sdf::LightType::point;
         const glm::dvec3 l = point ? glm::normalize(lp - pd) : -glm::normalize(light.direction);
         const double lift = 1e-7 * (1 + glm::length(pd));
@@ -241,16 +253,7 @@ struct Tracer {
       const auto& light = ctx.scene.lights[i];
       visibility[i] = 1;
       if (light.shadow == sdf::ShadowMode::none) continue;
-      Vec<T> to_light;
-      T dist;
-      if (light.type == sdf::LightType::point) {
-        const Vec<T> d = Vec<T>(light.position_at(ctx.scene.time)) - p;
-        dist = glm::length(d);
-        to_light = d / dist;
-      } else {
-        to_light = -glm::normalize(Vec<T>(light.direction));
-        dist = std::numeric_limits<T>::infinity();
-      }
+      const auto [to_light, dist] = toward_light(light, ctx.light_positions[i], p);
       const auto sv = shadow_visibility<T>(field, p, n, to_light, dist, t, light, ctx.scene.march, ctx.march);
       visibility[i] = sv.visibility;
       evals += static_cast<std::uint64_t>(sv.evals);
@@ -311,9 +314,10 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     bool hit = false;
     bool on_mesh = false;  // the nearest surface is a triangle mesh, not the field
     MeshHit mesh;
+    std::uint64_t batched_evals = 0;  // spent by a packet pass, charged by the stage that follows it
   };
   std::array<PixelState, kTile * kTile> px;
-  const int w = x1 - x0;
+  const int w = x1 - x0, tile_pixels = w * (y1 - y0);
   auto each = [&](auto&& fn) {
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) fn(px[static_cast<size_t>((y - y0) * w + (x - x0))], x, y);
@@ -331,6 +335,14 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     counters.stages[which].evals += evals;
     counters.stages[which].seconds += since(start);
   };
+  // A pass over the whole tile at once (packets of rays through the batched tape), timed as part of its stage;
+  // it leaves each pixel's evaluations in batched_evals for the stage's per-pixel pass to charge.
+  auto packet_pass = [&](Stage which, auto&& fn) {
+    const auto start = Clock::now();
+    fn();
+    counters.stages[which].seconds += since(start);
+  };
+  auto index = [&](const PixelState& p) { return static_cast<int>(&p - px.data()); };
 
   if (ctx.meshes)
     stage(kMesh, [&](PixelState& p, int x, int y) {
@@ -340,13 +352,37 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
       p.mesh = ctx.meshes->intersect(ray.origin, ray.direction, s.max_dist);
       return 0;
     });
+  if (!ctx.oracle)
+    packet_pass(kMarch, [&] {
+      PacketRay<T> rays[kTile * kTile];
+      RayRecord<T> records[kTile * kTile];
+      if (!ctx.meshes) {  // else the mesh stage made the rays
+        double xs[kTile * kTile], ys[kTile * kTile];
+        Ray camera_rays[kTile * kTile];
+        each([&](PixelState& p, int x, int y) {
+          xs[index(p)] = x + 0.5;
+          ys[index(p)] = y + 0.5;
+        });
+        ctx.camera.rays(xs, ys, tile_pixels, camera_rays);
+        each([&](PixelState& p, int, int) {
+          p.origin = V(camera_rays[index(p)].origin);
+          p.direction = V(camera_rays[index(p)].direction);
+        });
+      }
+      each([&](PixelState& p, int, int) {
+        // The march stops at the mesh, as the seed's does at the depth buffer's distance.
+        rays[index(p)] = {p.origin, p.direction, p.mesh.hit ? p.mesh.t : s.max_dist};
+      });
+      march_packet(ctx.tape, rays, records, tile_pixels, s, ctx.march);
+      for (int i = 0; i < tile_pixels; ++i) px[static_cast<size_t>(i)].record = records[i];
+    });
   stage(kMarch, [&](PixelState& p, int x, int y) {
-    if (!ctx.meshes) {
-      const Ray ray = ctx.camera.ray(x + 0.5, y + 0.5);
-      p.origin = V(ray.origin);
-      p.direction = V(ray.direction);
-    }
     if (ctx.oracle) {
+      if (!ctx.meshes) {
+        const Ray ray = ctx.camera.ray(x + 0.5, y + 0.5);
+        p.origin = V(ray.origin);
+        p.direction = V(ray.direction);
+      }
       const double len = glm::length(glm::dvec3(p.direction));
       const auto hit = ctx.oracle->first_hit(glm::dvec3(p.origin), glm::dvec3(p.direction) / len, s.max_dist);
       p.record = {};
@@ -364,15 +400,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
       for (auto& v : p.visibility) v = 1;
       return 0;
     }
-    if (p.mesh.hit) {
-      // The march stops at the mesh, as the seed's does at the depth buffer's distance.
-      MarchSettings to_mesh = s;
-      to_mesh.max_dist = p.mesh.t;
-      p.record = march<T>(field, p.origin, p.direction, to_mesh, ctx.march);
-      p.on_mesh = p.record.outcome != Outcome::hit;
-    } else {
-      p.record = march<T>(field, p.origin, p.direction, s, ctx.march);
-    }
+    p.on_mesh = p.mesh.hit && p.record.outcome != Outcome::hit;
     if (s.miss_as_zero && p.record.outcome != Outcome::hit) {
       // The seed's encoding: a miss is distance 0, which its consumer reads as a hit at the ray origin.
       p.record.outcome = Outcome::hit;
@@ -387,25 +415,98 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     for (auto& v : p.visibility) v = 1;
     return p.record.evals;
   });
-  if (pipe.normals && !ctx.oracle)
+  const bool batched_normals = s.normal == NormalMethod::central;  // the others stay one point at a time
+  if (pipe.normals && !ctx.oracle && batched_normals) {
+    packet_pass(kNormal, [&] {
+      V points[kTile * kTile];
+      T eps[kTile * kTile];
+      int which[kTile * kTile];
+      NormalResult<T> normals[kTile * kTile];
+      int count = 0;
+      each([&](PixelState& p, int, int) {
+        p.batched_evals = 0;
+        if (!p.hit) return;
+        points[count] = V(p.origin + p.direction * p.record.t);
+        eps[count] = normal_epsilon(s, p.record.t);
+        which[count++] = index(p);
+      });
+      central_normals_packet(ctx.tape, points, eps, normals, count);
+      for (int i = 0; i < count; ++i) {
+        auto& p = px[static_cast<size_t>(which[i])];
+        p.normal = normals[i].n;
+        p.batched_evals = static_cast<std::uint64_t>(normals[i].evals);
+      }
+    });
+    stage(kNormal, [&](PixelState& p, int, int) { return p.batched_evals; });
+  } else if (pipe.normals && !ctx.oracle) {
     stage(kNormal, [&](PixelState& p, int, int) {
       if (!p.hit) return 0;
       const auto n = estimate_normal(field, V(p.origin + p.direction * p.record.t), s.normal, normal_epsilon(s, p.record.t));
       p.normal = n.n;
       return n.evals;
     });
-  if (pipe.materials)
-    stage(kMaterial, [&](PixelState& p, int, int) {
-      if (!p.hit) return 0;
-      p.material = sdf::sample(ctx.tape, V(p.origin + p.direction * p.record.t)).material;
-      return 1;
+  }
+  if (pipe.materials) {
+    packet_pass(kMaterial, [&] {
+      alignas(64) T xs[kTile * kTile], ys[kTile * kTile], zs[kTile * kTile], values[kTile * kTile];
+      int materials[kTile * kTile], which[kTile * kTile];
+      int count = 0;
+      each([&](PixelState& p, int, int) {
+        p.batched_evals = 0;
+        if (!p.hit) return;
+        const V at = p.origin + p.direction * p.record.t;
+        xs[count] = at.x;
+        ys[count] = at.y;
+        zs[count] = at.z;
+        which[count++] = index(p);
+      });
+      for (int b = 0; b < count; b += sdf::kBatch)
+        sdf::sample_batch(ctx.tape, xs + b, ys + b, zs + b, values + b, materials + b, std::min(sdf::kBatch, count - b));
+      for (int i = 0; i < count; ++i) {
+        auto& p = px[static_cast<size_t>(which[i])];
+        p.material = materials[i];
+        p.batched_evals = 1;
+      }
     });
+    stage(kMaterial, [&](PixelState& p, int, int) { return p.batched_evals; });
+  }
   Tracer<T> tracer{ctx, counters};
-  if (pipe.shadows)
+  bool batched_shadows = !ctx.oracle;  // hard shadows march in packets; soft ones one ray at a time
+  for (const auto& light : ctx.scene.lights) batched_shadows = batched_shadows && light.shadow != sdf::ShadowMode::soft;
+  if (pipe.shadows && batched_shadows) {
+    packet_pass(kShadow, [&] {
+      PacketRay<T> rays[kTile * kTile];
+      ShadowStart<T> starts[kTile * kTile];
+      RayRecord<T> records[kTile * kTile];
+      int which[kTile * kTile];
+      each([&](PixelState& p, int, int) { p.batched_evals = 0; });
+      for (size_t li = 0; li < ctx.scene.lights.size(); ++li) {
+        const auto& light = ctx.scene.lights[li];
+        if (light.shadow == sdf::ShadowMode::none) continue;
+        int count = 0;
+        each([&](PixelState& p, int, int) {
+          if (!p.hit && !p.on_mesh) return;
+          const V at = p.origin + p.direction * p.record.t;
+          const auto [to_light, dist] = toward_light(light, ctx.light_positions[li], at);
+          starts[count] = shadow_start(at, p.normal, dist, p.record.t, light, s, ctx.march);
+          rays[count] = {starts[count].origin, to_light, starts[count].max_dist};
+          which[count++] = index(p);
+        });
+        march_packet(ctx.tape, rays, records, count, s, ctx.march);
+        for (int i = 0; i < count; ++i) {
+          auto& p = px[static_cast<size_t>(which[i])];
+          p.visibility[li] = hard_visibility(records[i], starts[i], light);
+          p.batched_evals += static_cast<std::uint64_t>(records[i].evals);
+        }
+      }
+    });
+    stage(kShadow, [&](PixelState& p, int, int) { return p.batched_evals; });
+  } else if (pipe.shadows) {
     stage(kShadow, [&](PixelState& p, int, int) {
       if (!p.hit && !p.on_mesh) return std::uint64_t{0};
       return tracer.shadows(p.origin + p.direction * p.record.t, p.normal, p.record.t, p.visibility);
     });
+  }
   if (pipe.ao_samples)
     stage(kAo, [&](PixelState& p, int, int) {
       if (!p.hit) return 0;
@@ -473,8 +574,9 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const
   const int w = scene.width, h = scene.height;
   if (scene.lights.size() > kMaxLights) throw std::invalid_argument("at most 16 lights");
   Context ctx{scene,  sdf::compile(scene.root, scene.time), Camera(scene.camera, w, h), {}, plan(scene, aovs, oracle),
-              nullptr, oracle};
+              nullptr, oracle, {}};
   ctx.march.lipschitz = sdf::derive_info(scene.root, scene.time).lipschitz;
+  for (const auto& light : scene.lights) ctx.light_positions.push_back(light.position_at(scene.time));
   ctx.march.footprint_at_0 = ctx.camera.footprint_at_0();
   ctx.march.footprint_slope = ctx.camera.footprint_slope();
   if (ctx.pipeline.textures) soil_texture_path();

@@ -1,9 +1,12 @@
 // Every camera model and pose reprojects: the ray through pixel (x, y) projects back to (x, y).
 #include "marchcheck/march/camera.hpp"
+#include "marchcheck/sdf/builtin_scenes.hpp"
+#include "marchcheck/validation/mesh_loader.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 namespace marchcheck::march {
 namespace {
@@ -116,6 +119,47 @@ TEST(Cameras, ReprojectionCatchesACameraThatSkipsUndistortion) {
 TEST(Cameras, PointsBehindTheCameraDoNotProject) {
   const Camera cam(spec(CameraModel::pinhole, CameraPose::look_at), 640, 480);
   EXPECT_FALSE(cam.project(cam.eye() - cam.forward()).has_value());
+}
+
+}  // namespace
+}  // namespace marchcheck::march
+
+namespace marchcheck::march {
+namespace {
+
+// How many of a 97 x 61 grid of pixels (odd sizes: partial blocks) get from rays() other bits than from ray().
+int batched_ray_mismatches(const Camera& batched, const Camera& one) {
+  std::vector<double> xs, ys;
+  for (int y = 0; y < 61; ++y)
+    for (int x = 0; x < 97; ++x) {
+      xs.push_back(x * 13.3 + 0.5);
+      ys.push_back(y * 11.9 + 0.5);
+    }
+  std::vector<Ray> out(xs.size());
+  batched.rays(xs.data(), ys.data(), static_cast<int>(xs.size()), out.data());
+  int bad = 0;
+  for (size_t i = 0; i < xs.size(); ++i) {
+    const Ray r = one.ray(xs[i], ys[i]);
+    bad += r.origin != out[i].origin || r.direction != out[i].direction;
+  }
+  return bad;
+}
+
+TEST(Camera, BatchedRaysAreTheOneRayResultsBitForBit) {
+  for (const std::string& name : sdf::builtin_scene_names()) {
+    const sdf::Scene s = sdf::builtin_scene(name, validation::mesh_loader());
+    const Camera cam(s.camera, 1280, 720);
+    EXPECT_EQ(batched_ray_mismatches(cam, cam), 0) << name;
+  }
+}
+
+// The comparison can fail: a lens with k1 larger by 1e-12 (directions move by ~1e-12, far above a rounding) is
+// caught.
+TEST(Camera, BatchedRaysOfAnotherLensAreCaught) {
+  sdf::Scene s = sdf::builtin_scene("lee-flat");
+  const Camera one(s.camera, 1280, 720);
+  s.camera.k1 += 1e-12;
+  EXPECT_GT(batched_ray_mismatches(Camera(s.camera, 1280, 720), one), 1000);
 }
 
 }  // namespace

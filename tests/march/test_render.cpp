@@ -4,6 +4,8 @@
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/validation/mesh_loader.hpp"
 
+#include "builtin_param.hpp"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -59,12 +61,8 @@ TEST_P(EveryBuiltin, EvaluationCountsAddUpAndNoPixelIsNaN) {
   for (float v : r.color.pixels) ASSERT_FALSE(std::isnan(v));
 }
 
-INSTANTIATE_TEST_SUITE_P(All, EveryBuiltin, ::testing::ValuesIn(sdf::builtin_scene_names()), [](const auto& param_info) {
-  std::string name = param_info.param;
-  for (auto& c : name)
-    if (c == '-') c = '_';
-  return name;
-});
+INSTANTIATE_TEST_SUITE_P(All, EveryBuiltin, ::testing::ValuesIn(sdf::builtin_scene_names()),
+                         marchcheck::testing::builtin_param_name);
 
 TEST(Render, LambertAndPhongOnASphereEqualTheClosedForm) {
   sdf::Scene s;

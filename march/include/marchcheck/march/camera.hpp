@@ -21,6 +21,8 @@ class Camera {
 
   // The ray through continuous pixel coordinates (px, py).
   Ray ray(double px, double py) const;
+  // out[i] = ray(px[i], py[i]) for i < n, bit for bit; lens undistortion runs for many pixels at once.
+  void rays(const double* px, const double* py, int n, Ray* out) const;
   // The continuous pixel coordinates a world point projects to; nullopt behind the camera.
   std::optional<glm::dvec2> project(glm::dvec3 world) const;
 
@@ -35,6 +37,7 @@ class Camera {
  private:
   glm::dvec2 distort(glm::dvec2 undistorted) const;
   glm::dvec2 undistort(glm::dvec2 distorted) const;
+  Ray intrinsics_ray(glm::dvec2 undistorted) const;
 
   sdf::CameraSpec spec_;
   int width_, height_;

@@ -26,14 +26,17 @@ struct ShadowResult {
   int evals = 0;
 };
 
-// Visibility of a light from surface point p with normal n, hit at distance t_hit along its primary ray.
-// light_dist: distance to a point light (infinity for a directional one).
-template <class T, class F>
-ShadowResult<T> shadow_visibility(const F& f, glm::vec<3, T> p, glm::vec<3, T> n, glm::vec<3, T> to_light,
-                                  T light_dist, T t_hit, const sdf::Light& light, const MarchSettings& s,
-                                  const MarchContext& c) {
-  using V = glm::vec<3, T>;
-  ShadowResult<T> out;
+// Where a shadow ray starts: p lifted along n by the light's bias, and its hit threshold.
+template <class T>
+struct ShadowStart {
+  glm::vec<3, T> origin;
+  T eps;
+  double max_dist;  // the march's: no farther than the light
+};
+
+template <class T>
+ShadowStart<T> shadow_start(glm::vec<3, T> p, glm::vec<3, T> n, T light_dist, T t_hit, const sdf::Light& light,
+                            const MarchSettings& s, const MarchContext& c) {
   const T eps = hit_threshold(s, c, t_hit);
   T offset = eps * T(light.bias_factor);
   if (light.bias == sdf::ShadowBias::seed_ignore) offset = eps;
@@ -42,15 +45,33 @@ ShadowResult<T> shadow_visibility(const F& f, glm::vec<3, T> p, glm::vec<3, T> n
     const T magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) + t_hit;
     offset = T(2) * eps + T(light.bias_factor) * std::numeric_limits<T>::epsilon() * magnitude;
   }
-  const V origin = p + n * offset;
+  return {p + n * offset, eps, std::min<double>(s.max_dist, static_cast<double>(light_dist))};
+}
+
+// A hard shadow's visibility from its shadow ray's record.
+template <class T>
+double hard_visibility(const RayRecord<T>& r, const ShadowStart<T>& start, const sdf::Light& light) {
+  bool blocked = r.outcome == Outcome::hit || r.outcome == Outcome::inside;
+  if (light.bias == sdf::ShadowBias::seed_ignore && r.t <= T(light.bias_factor) * start.eps) blocked = false;
+  return blocked ? 0.0 : 1.0;
+}
+
+// Visibility of a light from surface point p with normal n, hit at distance t_hit along its primary ray.
+// light_dist: distance to a point light (infinity for a directional one).
+template <class T, class F>
+ShadowResult<T> shadow_visibility(const F& f, glm::vec<3, T> p, glm::vec<3, T> n, glm::vec<3, T> to_light,
+                                  T light_dist, T t_hit, const sdf::Light& light, const MarchSettings& s,
+                                  const MarchContext& c) {
+  ShadowResult<T> out;
+  const ShadowStart<T> start = shadow_start(p, n, light_dist, t_hit, light, s, c);
+  const T eps = start.eps;
+  const glm::vec<3, T> origin = start.origin;
   MarchSettings ss = s;
-  ss.max_dist = std::min<double>(s.max_dist, static_cast<double>(light_dist));
+  ss.max_dist = start.max_dist;
   if (light.shadow == sdf::ShadowMode::hard) {
     const auto r = march<T>(f, origin, to_light, ss, c);
     out.evals = r.evals;
-    bool blocked = r.outcome == Outcome::hit || r.outcome == Outcome::inside;
-    if (light.bias == sdf::ShadowBias::seed_ignore && r.t <= T(light.bias_factor) * eps) blocked = false;
-    out.visibility = blocked ? 0.0 : 1.0;
+    out.visibility = hard_visibility(r, start, light);
     return out;
   }
   // Soft shadow: penumbra from the closest approach along the shadow ray (Quilez; improved: corrected with the

@@ -84,81 +84,131 @@ struct Tracker {
 
 }  // namespace detail
 
-// Marches field f (any callable vec3<T> -> T) from origin along direction, starting at t_start.
-// t is measured in units of |direction|: a direction that is not normalised is marched as given (as the
-// seed shaders that forget to normalise do), which is what lets validation catch them.
-template <class T, class F>
-RayRecord<T> march(const F& f, glm::vec<3, T> origin, glm::vec<3, T> direction, const MarchSettings& s,
-                   const MarchContext& c, T t_start = 0) {
-  RayRecord<T> r;
-  detail::Tracker<T> track{r};
-  if (!detail::finite3(origin) || !detail::finite3(direction) || !std::isfinite(t_start) ||
-      (direction.x == 0 && direction.y == 0 && direction.z == 0) || settings_invalid(s, c))
-    return track.end(Outcome::invalid, t_start);
+namespace detail {
 
+// A ray that cannot be marched: not finite, no direction, or settings that make no sense.
+template <class T>
+inline bool ray_invalid(glm::vec<3, T> origin, glm::vec<3, T> direction, T t_start, const MarchSettings& s,
+                        const MarchContext& c) {
+  return !finite3(origin) || !finite3(direction) || !std::isfinite(t_start) ||
+         (direction.x == 0 && direction.y == 0 && direction.z == 0) || settings_invalid(s, c);
+}
+
+template <class T, class F>
+RayRecord<T> march_fixed(const F& f, glm::vec<3, T> origin, glm::vec<3, T> direction, const MarchSettings& s,
+                         const MarchContext& c, T t_start) {
+  RayRecord<T> r;
+  Tracker<T> track{r};
   const T max_dist = static_cast<T>(s.max_dist);
-  const T scale = s.marcher == Marcher::scaled ? T(s.step_scale / c.lipschitz) : T(s.step_scale);
-  T t = t_start;
-  // One step: one evaluation, recorded.
   auto probe = [&](T tt) {
     const T v = f(origin + direction * tt);
     ++r.steps;
     track.saw(tt, v);
     return v;
   };
-
-  if (s.marcher == Marcher::fixed) {
-    const T step = T(s.fixed_step);
-    T prev_t = t;
-    while (r.steps < s.max_steps) {
-      const T v = probe(t);
-      if (!std::isfinite(v)) return track.end(Outcome::invalid, t);
-      const T eps = hit_threshold(s, c, t);
-      if (r.steps == 1 && v < -eps) return track.end(Outcome::inside, t);
-      if (v < eps) {
-        if (v > -eps || r.steps == 1) return track.end(Outcome::hit, t);
-        // Crossed the surface between prev_t (outside) and t (inside): bisect the bracket.
-        T lo = prev_t, hi = t;
-        while (r.steps < s.max_steps) {
-          const T mid = lo + (hi - lo) * T(0.5);
-          const T vm = probe(mid);
-          if (!std::isfinite(vm)) return track.end(Outcome::invalid, mid);
-          if (std::abs(vm) < hit_threshold(s, c, mid) || !(mid > lo && mid < hi)) return track.end(Outcome::hit, mid);
-          (vm > 0 ? lo : hi) = mid;
-        }
-        return track.end(Outcome::miss_steps, lo);
-      }
-      prev_t = t;
-      t += step;
-      if (t > max_dist) return track.end(Outcome::miss_far, t);
-    }
-    return track.end(Outcome::miss_steps, t);
-  }
-
-  // Sphere tracing; relaxed: steps of omega * f, falling back to a plain step from the previous point when
-  // the unbounding spheres of two consecutive points do not overlap (Keinert et al. 2014).
-  T omega = s.marcher == Marcher::relaxed ? T(s.relaxation) : T(1);
-  T prev_t = t, prev_f = 0, prev_step = 0;
+  const T step = T(s.fixed_step);
+  T t = t_start, prev_t = t;
   while (r.steps < s.max_steps) {
     const T v = probe(t);
     if (!std::isfinite(v)) return track.end(Outcome::invalid, t);
     const T eps = hit_threshold(s, c, t);
     if (r.steps == 1 && v < -eps) return track.end(Outcome::inside, t);
-    if (omega > T(1) && std::abs(v) + prev_f < prev_step) {
-      omega = 1;
-      t = prev_t + prev_f * scale;
-      prev_step = prev_f * scale;
-      continue;
+    if (v < eps) {
+      if (v > -eps || r.steps == 1) return track.end(Outcome::hit, t);
+      // Crossed the surface between prev_t (outside) and t (inside): bisect the bracket.
+      T lo = prev_t, hi = t;
+      while (r.steps < s.max_steps) {
+        const T mid = lo + (hi - lo) * T(0.5);
+        const T vm = probe(mid);
+        if (!std::isfinite(vm)) return track.end(Outcome::invalid, mid);
+        if (std::abs(vm) < hit_threshold(s, c, mid) || !(mid > lo && mid < hi)) return track.end(Outcome::hit, mid);
+        (vm > 0 ? lo : hi) = mid;
+      }
+      return track.end(Outcome::miss_steps, lo);
     }
-    if (v < eps) return track.end(Outcome::hit, t);
-    const T step = v * omega * scale;
     prev_t = t;
-    prev_f = v;
-    prev_step = step;
     t += step;
     if (t > max_dist) return track.end(Outcome::miss_far, t);
   }
   return track.end(Outcome::miss_steps, t);
+}
+
+}  // namespace detail
+
+// Sphere tracing; relaxed: steps of omega * f, falling back to a plain step from the previous point when the
+// unbounding spheres of two consecutive points do not overlap (Keinert et al. 2014); scaled: steps of f / L.
+// Written as a state machine fed one field value at a time, so that march() and a packet of rays sharing
+// batched evaluations (packet.hpp) take exactly the same steps.
+template <class T>
+class SphereTrace {
+ public:
+  SphereTrace() = default;
+  // s and c must outlive the trace; max_dist replaces s.max_dist (shadow rays stop at their light).
+  SphereTrace(const MarchSettings& s, const MarchContext& c, T t_start, T max_dist)
+      : s_(&s),
+        c_(&c),
+        max_dist_(max_dist),
+        scale_(s.marcher == Marcher::scaled ? T(s.step_scale / c.lipschitz) : T(s.step_scale)),
+        omega_(s.marcher == Marcher::relaxed ? T(s.relaxation) : T(1)),
+        t_(t_start),
+        prev_t_(t_start) {
+    if (!(r_.steps < s.max_steps)) end(Outcome::miss_steps);
+  }
+  bool done() const { return done_; }
+  T t() const { return t_; }  // where the field is wanted next
+  T scale() const { return scale_; }  // a step is f * omega * scale
+  const RayRecord<T>& record() const { return r_; }
+
+  // Takes the field's value at t(): records the step, then moves t or ends the record.
+  void feed(T v) {
+    ++r_.steps;
+    detail::Tracker<T>{r_}.saw(t_, v);
+    if (!std::isfinite(v)) return end(Outcome::invalid);
+    const T eps = hit_threshold(*s_, *c_, t_);
+    if (r_.steps == 1 && v < -eps) return end(Outcome::inside);
+    if (omega_ > T(1) && std::abs(v) + prev_f_ < prev_step_) {
+      omega_ = 1;
+      t_ = prev_t_ + prev_f_ * scale_;
+      prev_step_ = prev_f_ * scale_;
+    } else {
+      if (v < eps) return end(Outcome::hit);
+      const T step = v * omega_ * scale_;
+      prev_t_ = t_;
+      prev_f_ = v;
+      prev_step_ = step;
+      t_ += step;
+      if (t_ > max_dist_) return end(Outcome::miss_far);
+    }
+    if (!(r_.steps < s_->max_steps)) end(Outcome::miss_steps);
+  }
+
+ private:
+  void end(Outcome o) {
+    r_.outcome = o;
+    r_.t = t_;
+    done_ = true;
+  }
+  const MarchSettings* s_ = nullptr;
+  const MarchContext* c_ = nullptr;
+  T max_dist_ = 0, scale_ = 1, omega_ = 1, t_ = 0, prev_t_ = 0, prev_f_ = 0, prev_step_ = 0;
+  RayRecord<T> r_;
+  bool done_ = false;
+};
+
+// Marches field f (any callable vec3<T> -> T) from origin along direction, starting at t_start.
+// t is measured in units of |direction|: a direction that is not normalised is marched as given (as the
+// seed shaders that forget to normalise do), which is what lets validation catch them.
+template <class T, class F>
+RayRecord<T> march(const F& f, glm::vec<3, T> origin, glm::vec<3, T> direction, const MarchSettings& s,
+                   const MarchContext& c, T t_start = 0) {
+  if (detail::ray_invalid(origin, direction, t_start, s, c)) {
+    RayRecord<T> r;
+    return detail::Tracker<T>{r}.end(Outcome::invalid, t_start);
+  }
+  if (s.marcher == Marcher::fixed) return detail::march_fixed(f, origin, direction, s, c, t_start);
+  SphereTrace<T> trace(s, c, t_start, static_cast<T>(s.max_dist));
+  while (!trace.done()) trace.feed(f(origin + direction * trace.t()));
+  return trace.record();
 }
 
 }  // namespace marchcheck::march

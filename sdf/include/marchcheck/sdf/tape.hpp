@@ -245,109 +245,114 @@ inline T smooth_min(T a, T b, T k) {
   return min(a, b) - h * h * k * T(0.25);
 }
 
+// One instruction on the stacks (vt, pt: the top value and point): shared by the one-point evaluation and the
+// batched one's per-lane fallback, so an operator written here works in both.
+template <class T, bool WithMaterial>
+inline void step(const Tape& tape, const Instr& in, T* values, int* materials, int& vt, v3<T>* points, int& pt) {
+  using namespace smath;
+  const std::uint32_t a = in.arg;
+  auto k = [&](std::uint32_t i) { return tape.c<T>(a + i); };
+  const v3<T> p = points[pt];
+  switch (in.op) {
+    case TapeOp::min:
+    case TapeOp::max:
+    case TapeOp::subtract:
+    case TapeOp::smooth_min:
+    case TapeOp::smooth_max:
+    case TapeOp::smooth_subtract: {
+      const T b = values[vt--];
+      T& x = values[vt];
+      // The result's material is the one of the child that decides the value.
+      bool take_b = false;
+      T r;
+      switch (in.op) {
+        case TapeOp::min: take_b = b < x; r = take_b ? b : x; break;
+        case TapeOp::max: take_b = x < b; r = take_b ? b : x; break;
+        case TapeOp::subtract: take_b = x < -b; r = take_b ? -b : x; break;
+        case TapeOp::smooth_min: take_b = b < x; r = smooth_min(x, b, k(0)); break;
+        case TapeOp::smooth_max: take_b = x < b; r = -smooth_min(-x, -b, k(0)); break;
+        default: take_b = x < -b; r = -smooth_min(-x, b, k(0)); break;
+      }
+      if constexpr (WithMaterial)
+        if (take_b) materials[vt] = materials[vt + 1];
+      x = r;
+      break;
+    }
+    case TapeOp::round: values[vt] -= k(0); break;
+    case TapeOp::onion: values[vt] = abs(values[vt]) - k(0); break;
+    case TapeOp::scale_value: values[vt] *= k(0); break;
+    case TapeOp::displace: {
+      const T f = k(1);
+      values[vt] += k(0) * sin(f * p.x) * sin(f * p.y) * sin(f * p.z);
+      break;
+    }
+    case TapeOp::extrude: {
+      const v2<T> w(values[vt], abs(p.z) - k(0));
+      values[vt] = min(max(w.x, w.y), T(0)) + length(max(w, T(0)));
+      break;
+    }
+    case TapeOp::set_material:
+      if constexpr (WithMaterial) materials[vt] = in.material;
+      break;
+    case TapeOp::p_translate: points[++pt] = p - v3<T>(k(0), k(1), k(2)); break;
+    case TapeOp::p_affine:  // row-major 3x4
+      points[++pt] = v3<T>(p.x * k(0) + p.y * k(1) + p.z * k(2) + k(3), p.x * k(4) + p.y * k(5) + p.z * k(6) + k(7),
+                           p.x * k(8) + p.y * k(9) + p.z * k(10) + k(11));
+      break;
+    case TapeOp::p_scale: points[++pt] = p * k(0); break;
+    case TapeOp::p_repeat: {
+      v3<T> q = p;
+      for (int i = 0; i < 3; ++i) {
+        const T c = k(static_cast<std::uint32_t>(i));
+        if (value_of(c) > 0) q[i] = p[i] - c * round(p[i] / c);
+      }
+      points[++pt] = q;
+      break;
+    }
+    case TapeOp::p_repeat_limited: {
+      v3<T> q = p;
+      for (int i = 0; i < 3; ++i) {
+        const T c = k(static_cast<std::uint32_t>(i)), n = k(3 + static_cast<std::uint32_t>(i));
+        if (value_of(c) > 0) q[i] = p[i] - c * clamp(round(p[i] / c), -n, n);
+      }
+      points[++pt] = q;
+      break;
+    }
+    case TapeOp::p_mirror: {
+      v3<T> q = p;
+      for (int i = 0; i < 3; ++i)
+        if (tape.constants[a + static_cast<std::uint32_t>(i)] > 0.5) q[i] = abs(q[i]);
+      points[++pt] = q;
+      break;
+    }
+    case TapeOp::p_twist: {
+      const T ang = k(0) * p.y;
+      const T c = cos(ang), s = sin(ang);
+      points[++pt] = v3<T>(c * p.x - s * p.z, p.y, s * p.x + c * p.z);
+      break;
+    }
+    case TapeOp::p_warp:  // k = (ax, kx, ay, ky, oz): q = p - (ax sin(kx y), ay sin(ky x), oz)
+      points[++pt] = v3<T>(p.x - k(0) * sin(k(1) * p.y), p.y - k(2) * sin(k(3) * p.x), p.z - k(4));
+      break;
+    case TapeOp::p_revolve:
+      points[++pt] = v3<T>(length(v2<T>(p.x, p.z)) - k(0), p.y, T(0));
+      break;
+    case TapeOp::p_pop: --pt; break;
+    default:
+      values[++vt] = eval_primitive(tape, in, p);
+      if constexpr (WithMaterial) materials[vt] = in.material;
+      break;
+  }
+}
+
 template <class T, bool WithMaterial>
 inline Sample<T> run(const Tape& tape, v3<T> p0) {
-  using namespace smath;
   T values[kMaxValueStack];
   int materials[WithMaterial ? kMaxValueStack : 1];
   v3<T> points[kMaxPointStack];
   int vt = -1, pt = 0;
   points[0] = p0;
-  for (const Instr& in : tape.code) {
-    const std::uint32_t a = in.arg;
-    auto k = [&](std::uint32_t i) { return tape.c<T>(a + i); };
-    const v3<T> p = points[pt];
-    switch (in.op) {
-      case TapeOp::min:
-      case TapeOp::max:
-      case TapeOp::subtract:
-      case TapeOp::smooth_min:
-      case TapeOp::smooth_max:
-      case TapeOp::smooth_subtract: {
-        const T b = values[vt--];
-        T& x = values[vt];
-        // The result's material is the one of the child that decides the value.
-        bool take_b = false;
-        T r;
-        switch (in.op) {
-          case TapeOp::min: take_b = b < x; r = take_b ? b : x; break;
-          case TapeOp::max: take_b = x < b; r = take_b ? b : x; break;
-          case TapeOp::subtract: take_b = x < -b; r = take_b ? -b : x; break;
-          case TapeOp::smooth_min: take_b = b < x; r = smooth_min(x, b, k(0)); break;
-          case TapeOp::smooth_max: take_b = x < b; r = -smooth_min(-x, -b, k(0)); break;
-          default: take_b = x < -b; r = -smooth_min(-x, b, k(0)); break;
-        }
-        if constexpr (WithMaterial)
-          if (take_b) materials[vt] = materials[vt + 1];
-        x = r;
-        break;
-      }
-      case TapeOp::round: values[vt] -= k(0); break;
-      case TapeOp::onion: values[vt] = abs(values[vt]) - k(0); break;
-      case TapeOp::scale_value: values[vt] *= k(0); break;
-      case TapeOp::displace: {
-        const T f = k(1);
-        values[vt] += k(0) * sin(f * p.x) * sin(f * p.y) * sin(f * p.z);
-        break;
-      }
-      case TapeOp::extrude: {
-        const v2<T> w(values[vt], abs(p.z) - k(0));
-        values[vt] = min(max(w.x, w.y), T(0)) + length(max(w, T(0)));
-        break;
-      }
-      case TapeOp::set_material:
-        if constexpr (WithMaterial) materials[vt] = in.material;
-        break;
-      case TapeOp::p_translate: points[++pt] = p - v3<T>(k(0), k(1), k(2)); break;
-      case TapeOp::p_affine:  // row-major 3x4
-        points[++pt] = v3<T>(p.x * k(0) + p.y * k(1) + p.z * k(2) + k(3), p.x * k(4) + p.y * k(5) + p.z * k(6) + k(7),
-                             p.x * k(8) + p.y * k(9) + p.z * k(10) + k(11));
-        break;
-      case TapeOp::p_scale: points[++pt] = p * k(0); break;
-      case TapeOp::p_repeat: {
-        v3<T> q = p;
-        for (int i = 0; i < 3; ++i) {
-          const T c = k(static_cast<std::uint32_t>(i));
-          if (value_of(c) > 0) q[i] = p[i] - c * round(p[i] / c);
-        }
-        points[++pt] = q;
-        break;
-      }
-      case TapeOp::p_repeat_limited: {
-        v3<T> q = p;
-        for (int i = 0; i < 3; ++i) {
-          const T c = k(static_cast<std::uint32_t>(i)), n = k(3 + static_cast<std::uint32_t>(i));
-          if (value_of(c) > 0) q[i] = p[i] - c * clamp(round(p[i] / c), -n, n);
-        }
-        points[++pt] = q;
-        break;
-      }
-      case TapeOp::p_mirror: {
-        v3<T> q = p;
-        for (int i = 0; i < 3; ++i)
-          if (tape.constants[a + static_cast<std::uint32_t>(i)] > 0.5) q[i] = abs(q[i]);
-        points[++pt] = q;
-        break;
-      }
-      case TapeOp::p_twist: {
-        const T ang = k(0) * p.y;
-        const T c = cos(ang), s = sin(ang);
-        points[++pt] = v3<T>(c * p.x - s * p.z, p.y, s * p.x + c * p.z);
-        break;
-      }
-      case TapeOp::p_warp:  // k = (ax, kx, ay, ky, oz): q = p - (ax sin(kx y), ay sin(ky x), oz)
-        points[++pt] = v3<T>(p.x - k(0) * sin(k(1) * p.y), p.y - k(2) * sin(k(3) * p.x), p.z - k(4));
-        break;
-      case TapeOp::p_revolve:
-        points[++pt] = v3<T>(length(v2<T>(p.x, p.z)) - k(0), p.y, T(0));
-        break;
-      case TapeOp::p_pop: --pt; break;
-      default:
-        values[++vt] = eval_primitive(tape, in, p);
-        if constexpr (WithMaterial) materials[vt] = in.material;
-        break;
-    }
-  }
+  for (const Instr& in : tape.code) step<T, WithMaterial>(tape, in, values, materials, vt, points, pt);
   if constexpr (WithMaterial) {
     return {values[0], materials[0]};
   } else {
@@ -368,5 +373,18 @@ template <class T>
 inline Sample<T> sample(const Tape& tape, glm::vec<3, T> p) {
   return detail::run<T, true>(tape, p);
 }
+
+// Points per batch of evaluate_batch: enough for every instruction's loop to fill AVX-512 registers several times.
+inline constexpr int kBatch = 64;
+
+// out[i] = evaluate(tape, (x[i], y[i], z[i])) for i < n <= kBatch, bit for bit, with each instruction run as one
+// loop over the batch (structure of arrays, vectorised by the compiler). Operators not worth vectorising run
+// lane by lane through the one-point code. T: float or double.
+template <class T>
+void evaluate_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int n);
+
+// evaluate_batch, and material[i] = sample(tape, point i).material.
+template <class T>
+void sample_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int* material, int n);
 
 }  // namespace marchcheck::sdf
