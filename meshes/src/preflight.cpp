@@ -192,6 +192,12 @@ Expected preflight_ply(const std::string& path, std::string_view content) {
     // OpenMesh reads the header word by word: a line one word short shifts everything after it (a list
     // property without a name swallows end_header, and the reader then loops forever at the end of the file).
     if (tokens[0] == "format" && tokens.size() == 3) {
+      // OpenMesh reads the version as a float; one that does not parse (fuzzing found "\xb1.0") leaves its
+      // stream failed and its header loop spinning forever.
+      double version = 0;
+      const auto [end, ec] = std::from_chars(tokens[2].data(), tokens[2].data() + tokens[2].size(), version);
+      if (ec != std::errc() || end != tokens[2].data() + tokens[2].size() || version != 1.0)
+        fail(path, where + "PLY version '" + std::string(tokens[2].substr(0, 20)) + "' is not 1.0");
       format = tokens[1];
     } else if (tokens[0] == "element" && tokens.size() == 3) {
       PlyElement element{std::string(tokens[1]), 0, {}, {}};

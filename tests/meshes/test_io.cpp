@@ -296,6 +296,14 @@ TEST(LoadMesh, PlyDefects) {
   expect_load_error(path, "no end_header");
   write_bytes(path, header.substr(0, 40));
   expect_load_error(path, "line 4: malformed PLY header line 'pr'");
+  // Found by fuzz_mesh_ply: OpenMesh's header reader never returns on a version that is not a number.
+  std::string bad_version = header;
+  bad_version.replace(bad_version.find("1.0"), 3, "\xb1.0");
+  write_bytes(path, bad_version + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_load_error(path, "line 2: PLY version '\xb1.0' is not 1.0");
+  bad_version.replace(bad_version.find("\xb1.0"), 3, "2.0");
+  write_bytes(path, bad_version + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_load_error(path, "line 2: PLY version '2.0' is not 1.0");
 
   // Binary: NaN and truncation are caught after OpenMesh has read the file.
   Mesh m = box({1, 1, 1}).mesh;
