@@ -93,6 +93,19 @@ void check_coordinates(const std::string& path, std::size_t line, const std::vec
       fail(path, line_no(line) + what + ": " + problem);
 }
 
+// "v", "v/t", "v//n" or "v/t/n" with whole-number indices (their range is checked after reading). OpenMesh's OBJ reader asserts (aborting the
+// program) on a face whose corners it cannot parse, such as "f /1 2 3" or "f 1 2 3x" (both found by fuzz_mesh_obj).
+bool obj_corner(std::string_view token) {
+  int index = 0;
+  const std::size_t first = token.find('/');
+  if (!parse_int(token.substr(0, first), index)) return false;
+  if (first == std::string_view::npos) return true;
+  const std::string_view rest = token.substr(first + 1);
+  const std::size_t second = rest.find('/');
+  if (second == std::string_view::npos) return parse_int(rest, index);
+  return (second == 0 || parse_int(rest.substr(0, second), index)) && parse_int(rest.substr(second + 1), index);
+}
+
 Expected preflight_obj(const std::string& path, std::string_view content) {
   Expected expected{0, 0};
   Lines lines(content);
@@ -106,6 +119,10 @@ Expected preflight_obj(const std::string& path, std::string_view content) {
       if (tokens.size() < 4)
         fail(path, line_no(lines.number()) + "face " + std::to_string(*expected.faces) + " has " +
                        std::to_string(tokens.size() - 1) + " vertices (at least 3 needed)");
+      for (std::size_t k = 1; k < tokens.size(); ++k)
+        if (!obj_corner(tokens[k]))
+          fail(path, line_no(lines.number()) + "face " + std::to_string(*expected.faces) + ": corner '" +
+                         std::string(tokens[k].substr(0, 40)) + "' is not v, v/t, v//n or v/t/n (whole numbers)");
     }
   }
   return expected;

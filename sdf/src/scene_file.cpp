@@ -458,6 +458,33 @@ std::pair<int, int> line_column(std::string_view text, size_t byte) {
   return {line, column};
 }
 
+// Where the parser gave up on a number too large for a double, and its text: a second pass that only listens.
+std::pair<size_t, std::string> overflow_place(std::string_view text) {
+  struct Listener : nlohmann::json_sax<json> {
+    size_t byte = 0;
+    std::string token;
+    bool null() override { return true; }
+    bool boolean(bool) override { return true; }
+    bool number_integer(number_integer_t) override { return true; }
+    bool number_unsigned(number_unsigned_t) override { return true; }
+    bool number_float(number_float_t, const string_t&) override { return true; }
+    bool string(string_t&) override { return true; }
+    bool binary(binary_t&) override { return true; }
+    bool start_object(std::size_t) override { return true; }
+    bool key(string_t&) override { return true; }
+    bool end_object() override { return true; }
+    bool start_array(std::size_t) override { return true; }
+    bool end_array() override { return true; }
+    bool parse_error(std::size_t position, const std::string& last_token, const nlohmann::detail::exception&) override {
+      byte = position >= last_token.size() ? position - last_token.size() : 0;
+      token = last_token;
+      return false;
+    }
+  } listener;
+  json::sax_parse(text.begin(), text.end(), &listener);
+  return {listener.byte, listener.token};
+}
+
 }  // namespace
 
 std::vector<std::string> declared_effects(const Scene& scene) {
@@ -551,6 +578,12 @@ Scene scene_from_json(std::string_view text, const std::string& source) {
     std::string what = e.what();
     if (const auto pos = what.find("syntax error"); pos != std::string::npos) what = what.substr(pos);
     throw SceneError(source + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + what);
+  } catch (const json::out_of_range&) {
+    // A number beyond the double range (fuzz_scene found "1e3080"); the exception carries no position.
+    const auto [byte, token] = overflow_place(text);
+    const auto [line, column] = line_column(text, byte);
+    throw SceneError(source + ":" + std::to_string(line) + ":" + std::to_string(column) + ": the number " +
+                     token.substr(0, 40) + " is beyond the range of a double");
   }
   try {
     Scene scene;

@@ -241,6 +241,15 @@ TEST(LoadMesh, ObjDefects) {
   expect_load_error(path, "fewer than three coordinates");
   write_bytes(path, v + "f 1 2\n");
   expect_load_error(path, "line 4: face 1 has 2 vertices");
+  // Found by fuzz_mesh_obj: corners OpenMesh cannot parse make its reader assert and abort the program.
+  for (const char* corner : {"/1", "3x", "-", "1/", "1/2/", "1//", "1/x/3", "1/2/3/4"}) {
+    write_bytes(path, v + "f 1 2 " + corner + "\n");
+    expect_load_error(path, "line 4: face 1: corner '" + std::string(corner) + "' is not v, v/t, v//n or v/t/n");
+  }
+  for (const char* corner : {"3", "3/1", "3//1", "3/1/1", "-1"}) {  // the guard passes every valid form
+    write_bytes(path, v + "vt 0 0\nvn 0 0 1\nf 1 2 " + corner + "\n");
+    EXPECT_EQ(load_mesh(path).triangles.size(), 1u) << corner;
+  }
   write_bytes(path, v);
   expect_load_error(path, "no triangles");
 }

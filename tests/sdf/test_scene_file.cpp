@@ -94,6 +94,11 @@ TEST(SceneFile, OutOfRangeAndWronglyTypedValuesNameTheRange) {
             "bad.json: /sdf/half_size/1: value -0.25 is out of range [1e-12, 1e+300]");
   EXPECT_EQ(error_of(R"({"meshes": [{"vertices": [], "triangles": []}], )" + sphere + "}"),
             "bad.json: /meshes/0: needs at least one triangle");
+  // Found by fuzz_scene: the JSON parser's overflow error has no position and escaped as another exception type.
+  EXPECT_EQ(error_of("{\"hit_eps\": 1e3080, " + sphere + "}"),
+            "bad.json:1:13: the number 1e3080 is beyond the range of a double");
+  EXPECT_EQ(error_of("{\n \"sdf\": {\"type\": \"sphere\", \"radius\": -22222222222e2222222222222}}"),
+            "bad.json:2:38: the number -22222222222e2222222222222 is beyond the range of a double");
   // JSON has no NaN literal: it is a syntax error at its place.
   EXPECT_EQ(error_of("{\"hit_eps\": NaN, " + sphere + "}").rfind("bad.json:1:13: syntax error", 0), 0u);
 }
