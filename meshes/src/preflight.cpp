@@ -135,8 +135,11 @@ Expected preflight_off(const std::string& path, std::string_view content) {
   const std::string_view keyword = tokens[0];
   if (keyword.size() < 3 || keyword.substr(keyword.size() - 3) != "OFF")
     fail(path, "not an OFF file: it starts with '" + std::string(keyword.substr(0, 40)) + "'");
-  // Binary OFF and the n-dimensional variant are left to OpenMesh and the checks after reading.
-  if (keyword.front() == 'n' || std::find(tokens.begin(), tokens.end(), "BINARY") != tokens.end()) return {};
+  // OpenMesh's binary OFF reader never returns on some malformed files (fuzz_mesh_off found "OFF\rBINARY" with
+  // text after it), and nothing here writes binary or n-dimensional OFF: refuse both.
+  if (std::find(tokens.begin(), tokens.end(), "BINARY") != tokens.end())
+    fail(path, "binary OFF is not supported (OpenMesh's reader can hang on a damaged one); use ASCII OFF, PLY or STL");
+  if (keyword.front() == 'n') fail(path, "n-dimensional OFF ('nOFF') is not supported");
   // OpenMesh's OFF reader takes '#' as data (even reading uninitialised values), and wants the counts on a line
   // of their own: refuse both rather than load garbage.
   if (const std::size_t hash = content.find('#'); hash != std::string_view::npos)
@@ -148,8 +151,12 @@ Expected preflight_off(const std::string& path, std::string_view content) {
                    "' (OpenMesh's OFF reader expects them there)");
   if (!lines.next_tokens(tokens, false)) fail(path, "the OFF header has no element counts");
   std::uint64_t n_vertices = 0, n_faces = 0;
-  if (tokens.size() < 2 || !parse_int(tokens[0], n_vertices) || !parse_int(tokens[1], n_faces))
-    fail(path, line_no(lines.number()) + "expected the vertex and face counts");
+  // All three counts: OpenMesh reads the edge count wherever the next number is, shifting every later value
+  // (fuzz_mesh_off found "4 1" turning a coordinate into a face size of 2^32 - 840).
+  std::uint64_t n_edges = 0;
+  if (tokens.size() != 3 || !parse_int(tokens[0], n_vertices) || !parse_int(tokens[1], n_faces) ||
+      !parse_int(tokens[2], n_edges))
+    fail(path, line_no(lines.number()) + "expected the vertex, face and edge counts (three whole numbers)");
   if (n_vertices + n_faces > content.size())
     fail(path, "the header announces " + std::to_string(n_vertices) + " vertices and " + std::to_string(n_faces) +
                    " faces, more than the file's " + std::to_string(content.size()) + " bytes can hold");

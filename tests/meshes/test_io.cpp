@@ -280,6 +280,16 @@ TEST(LoadMesh, OffDefects) {
   expect_load_error(path, "line 3: '#' comments are not supported");
   write_bytes(path, "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   expect_load_error(path, "line 1: put the counts on the line after 'OFF'");
+  // Found by fuzz_mesh_off: a missing edge count shifts OpenMesh's reading by one value (here into a 2 GB
+  // allocation), and its binary reader can spin forever.
+  write_bytes(path, "OFF\n3 1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_load_error(path, "line 2: expected the vertex, face and edge counts");
+  write_bytes(path, "OFF\n3 1 0 7\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_load_error(path, "line 2: expected the vertex, face and edge counts");
+  write_bytes(path, "OFF\rBINARY\n0 0 1\n1 0 0\n");
+  expect_load_error(path, "binary OFF is not supported");
+  write_bytes(path, "nOFF\n3\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_load_error(path, "n-dimensional OFF ('nOFF') is not supported");
   // Blank lines and CRLF are fine.
   write_bytes(path, "OFF\r\n\r\n3 1 0\r\n0 0 0\r\n1 0 0\r\n\r\n0 1 0\r\n3 0 1 2\r\n");
   EXPECT_EQ(load_mesh(path).triangles.size(), 1u);
