@@ -7,6 +7,7 @@ packages=(
   libopenimageio-dev libtbb-dev libembree-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev
   python3 python3-matplotlib
+  clang libclang-rt-dev  # scripts/fuzz.sh: libFuzzer and clang's sanitizer runtimes
 )
 missing=()
 for p in "${packages[@]}"; do
