@@ -6,7 +6,8 @@ packages=(
   libglm-dev libcgal-dev libopenmesh-dev libgtest-dev libgmock-dev libbenchmark-dev
   libopenimageio-dev libtbb-dev libembree-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev
-  python3 python3-matplotlib chromium
+  python3 python3-matplotlib chromium  # plots and the report's browser test
+  clang libclang-rt-dev  # scripts/fuzz.sh: libFuzzer and clang's sanitizer runtimes
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,6 +1,8 @@
 // OpenImageIO lives in this file alone: OIIO 2.4 forces its bundled fmt settings on any file that includes it.
 #include "marchcheck/march/render.hpp"
 
+#include "marchcheck/march/atomic_file.hpp"
+
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -8,7 +10,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
-#include <unistd.h>
 
 namespace marchcheck::march {
 
@@ -24,15 +25,6 @@ float to_srgb(float linear) {
   return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
 }
 
-// "dir/name.png" -> "dir/.name.png.tmp-PID.png": same folder (so rename is atomic), same extension (OIIO
-// picks the format from it).
-std::filesystem::path temp_name(const std::filesystem::path& path) {
-  auto tmp = path;
-  tmp.replace_filename("." + path.filename().string() + ".tmp-" + std::to_string(::getpid()) +
-                       path.extension().string());
-  return tmp;
-}
-
 std::string base_of(const std::string& path) {
   const std::filesystem::path p(path);
   return (p.parent_path() / p.stem()).string();
@@ -42,35 +34,27 @@ std::string base_of(const std::string& path) {
 
 void write_image(const Image& image, const std::string& path, bool srgb) {
   const bool as_float = is_float_format(path);
-  const auto tmp = temp_name(path);
-  auto out = OIIO::ImageOutput::create(tmp.string());
-  if (!out) throw std::runtime_error(path + ": no image writer for this extension (" + OIIO::geterror() + ")");
-  OIIO::ImageSpec spec(image.width, image.height, image.channels, as_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-  bool ok = out->open(tmp.string(), spec);
-  if (ok) {
-    if (as_float) {
-      ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
-    } else {
-      std::vector<unsigned char> bytes(image.pixels.size());
-      for (size_t i = 0; i < bytes.size(); ++i) {
-        const float v = srgb ? to_srgb(image.pixels[i]) : std::clamp(image.pixels[i], 0.0f, 1.0f);
-        bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
+  write_atomically(path, [&](const std::string& tmp) {
+    auto out = OIIO::ImageOutput::create(tmp);
+    if (!out) throw std::runtime_error("no image writer for this extension (" + OIIO::geterror() + ")");
+    OIIO::ImageSpec spec(image.width, image.height, image.channels,
+                         as_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+    bool ok = out->open(tmp, spec);
+    if (ok) {
+      if (as_float) {
+        ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
+      } else {
+        std::vector<unsigned char> bytes(image.pixels.size());
+        for (size_t i = 0; i < bytes.size(); ++i) {
+          const float v = srgb ? to_srgb(image.pixels[i]) : std::clamp(image.pixels[i], 0.0f, 1.0f);
+          bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
+        }
+        ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
       }
-      ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+      ok = out->close() && ok;
     }
-    ok = out->close() && ok;
-  }
-  if (!ok) {
-    const std::string error = out->geterror();
-    std::filesystem::remove(tmp);
-    throw std::runtime_error(path + ": cannot write the image: " + error);
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp);
-    throw std::runtime_error(path + ": cannot move the finished image into place: " + ec.message());
-  }
+    if (!ok) throw std::runtime_error("cannot write the image: " + out->geterror());
+  });
 }
 
 Image heat_map(const Image& values, double max_value) {

@@ -93,6 +93,19 @@ void check_coordinates(const std::string& path, std::size_t line, const std::vec
       fail(path, line_no(line) + what + ": " + problem);
 }
 
+// "v", "v/t", "v//n" or "v/t/n" with whole-number indices (their range is checked after reading). OpenMesh's OBJ reader asserts (aborting the
+// program) on a face whose corners it cannot parse, such as "f /1 2 3" or "f 1 2 3x" (both found by fuzz_mesh_obj).
+bool obj_corner(std::string_view token) {
+  int index = 0;
+  const std::size_t first = token.find('/');
+  if (!parse_int(token.substr(0, first), index)) return false;
+  if (first == std::string_view::npos) return true;
+  const std::string_view rest = token.substr(first + 1);
+  const std::size_t second = rest.find('/');
+  if (second == std::string_view::npos) return parse_int(rest, index);
+  return (second == 0 || parse_int(rest.substr(0, second), index)) && parse_int(rest.substr(second + 1), index);
+}
+
 Expected preflight_obj(const std::string& path, std::string_view content) {
   Expected expected{0, 0};
   Lines lines(content);
@@ -106,6 +119,10 @@ Expected preflight_obj(const std::string& path, std::string_view content) {
       if (tokens.size() < 4)
         fail(path, line_no(lines.number()) + "face " + std::to_string(*expected.faces) + " has " +
                        std::to_string(tokens.size() - 1) + " vertices (at least 3 needed)");
+      for (std::size_t k = 1; k < tokens.size(); ++k)
+        if (!obj_corner(tokens[k]))
+          fail(path, line_no(lines.number()) + "face " + std::to_string(*expected.faces) + ": corner '" +
+                         std::string(tokens[k].substr(0, 40)) + "' is not v, v/t, v//n or v/t/n (whole numbers)");
     }
   }
   return expected;
@@ -118,8 +135,11 @@ Expected preflight_off(const std::string& path, std::string_view content) {
   const std::string_view keyword = tokens[0];
   if (keyword.size() < 3 || keyword.substr(keyword.size() - 3) != "OFF")
     fail(path, "not an OFF file: it starts with '" + std::string(keyword.substr(0, 40)) + "'");
-  // Binary OFF and the n-dimensional variant are left to OpenMesh and the checks after reading.
-  if (keyword.front() == 'n' || std::find(tokens.begin(), tokens.end(), "BINARY") != tokens.end()) return {};
+  // OpenMesh's binary OFF reader never returns on some malformed files (fuzz_mesh_off found "OFF\rBINARY" with
+  // text after it), and nothing here writes binary or n-dimensional OFF: refuse both.
+  if (std::find(tokens.begin(), tokens.end(), "BINARY") != tokens.end())
+    fail(path, "binary OFF is not supported (OpenMesh's reader can hang on a damaged one); use ASCII OFF, PLY or STL");
+  if (keyword.front() == 'n') fail(path, "n-dimensional OFF ('nOFF') is not supported");
   // OpenMesh's OFF reader takes '#' as data (even reading uninitialised values), and wants the counts on a line
   // of their own: refuse both rather than load garbage.
   if (const std::size_t hash = content.find('#'); hash != std::string_view::npos)
@@ -131,8 +151,12 @@ Expected preflight_off(const std::string& path, std::string_view content) {
                    "' (OpenMesh's OFF reader expects them there)");
   if (!lines.next_tokens(tokens, false)) fail(path, "the OFF header has no element counts");
   std::uint64_t n_vertices = 0, n_faces = 0;
-  if (tokens.size() < 2 || !parse_int(tokens[0], n_vertices) || !parse_int(tokens[1], n_faces))
-    fail(path, line_no(lines.number()) + "expected the vertex and face counts");
+  // All three counts: OpenMesh reads the edge count wherever the next number is, shifting every later value
+  // (fuzz_mesh_off found "4 1" turning a coordinate into a face size of 2^32 - 840).
+  std::uint64_t n_edges = 0;
+  if (tokens.size() != 3 || !parse_int(tokens[0], n_vertices) || !parse_int(tokens[1], n_faces) ||
+      !parse_int(tokens[2], n_edges))
+    fail(path, line_no(lines.number()) + "expected the vertex, face and edge counts (three whole numbers)");
   if (n_vertices + n_faces > content.size())
     fail(path, "the header announces " + std::to_string(n_vertices) + " vertices and " + std::to_string(n_faces) +
                    " faces, more than the file's " + std::to_string(content.size()) + " bytes can hold");
@@ -192,6 +216,12 @@ Expected preflight_ply(const std::string& path, std::string_view content) {
     // OpenMesh reads the header word by word: a line one word short shifts everything after it (a list
     // property without a name swallows end_header, and the reader then loops forever at the end of the file).
     if (tokens[0] == "format" && tokens.size() == 3) {
+      // OpenMesh reads the version as a float; one that does not parse (fuzzing found "\xb1.0") leaves its
+      // stream failed and its header loop spinning forever.
+      double version = 0;
+      const auto [end, ec] = std::from_chars(tokens[2].data(), tokens[2].data() + tokens[2].size(), version);
+      if (ec != std::errc() || end != tokens[2].data() + tokens[2].size() || version != 1.0)
+        fail(path, where + "PLY version '" + std::string(tokens[2].substr(0, 20)) + "' is not 1.0");
       format = tokens[1];
     } else if (tokens[0] == "element" && tokens.size() == 3) {
       PlyElement element{std::string(tokens[1]), 0, {}, {}};

@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <charconv>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
@@ -39,12 +40,17 @@ namespace {
 
 constexpr int kBadInput = 2;
 
+// from_chars, not sscanf: "%d" on "99999999999" is undefined behaviour.
 void apply_size(sdf::Scene& scene, const std::string& size) {
   int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(size.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1 ||
-      w > 16384 || h > 16384)
-    throw sdf::SceneError("--size " + size + ": expected WIDTHxHEIGHT, each 1..16384");
+  const char* end = size.data() + size.size();
+  const auto [x, ew] = std::from_chars(size.data(), end, w);
+  bool ok = ew == std::errc() && x != end && (*x == 'x' || *x == 'X');
+  if (ok) {
+    const auto [last, eh] = std::from_chars(x + 1, end, h);
+    ok = eh == std::errc() && last == end && w >= 1 && h >= 1 && w <= 16384 && h <= 16384;
+  }
+  if (!ok) throw sdf::SceneError("--size " + size + ": expected WIDTHxHEIGHT, each 1..16384");
   scene.width = w;
   scene.height = h;
 }

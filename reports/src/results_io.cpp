@@ -1,39 +1,26 @@
 #include "marchcheck/reports/results_io.hpp"
 
+#include "marchcheck/march/atomic_file.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <set>
 #include <sstream>
 #include <stdexcept>
-#include <unistd.h>
 
 namespace marchcheck::reports {
 
 void write_text_atomically(const std::string& path, const std::string& text) {
-  const std::filesystem::path target(path);
-  auto tmp = target;
-  tmp.replace_filename("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()));
-  {
+  march::write_atomically(path, [&](const std::string& tmp) {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path + ": cannot create the file");
+    if (!out) throw std::runtime_error("cannot create " + tmp + " (missing folder or no permission?)");
     out << text;
-    out.flush();
-    if (!out) {
-      out.close();
-      std::filesystem::remove(tmp);
-      throw std::runtime_error(path + ": cannot write the file");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, target, ec);
-  if (ec) {
-    std::filesystem::remove(tmp);
-    throw std::runtime_error(path + ": cannot move the finished file into place: " + ec.message());
-  }
+    out.close();
+    if (!out) throw std::runtime_error("cannot write " + tmp + " (disk full?)");
+  });
 }
 
 

@@ -65,13 +65,15 @@ E enum_value(const EnumName<E> (&table)[N], const json& v, const std::string& wh
 // JSON has no infinity: scene files spell it "inf" (max_dist, for instance).
 json number_json(double x) { return std::isinf(x) ? json(x > 0 ? "inf" : "-inf") : json(x); }
 
-double number(const json& v, const std::string& where, double lo = -1e300, double hi = 1e300) {
+// above_lo: the range excludes lo itself (a tolerance such as hit_eps must be > 0, not >= 0).
+double number(const json& v, const std::string& where, double lo = -1e300, double hi = 1e300, bool above_lo = false) {
   const bool infinite = v.is_string() && (v.get<std::string>() == "inf" || v.get<std::string>() == "-inf");
   if (!v.is_number() && !infinite) fail(where, "expected a number, got " + std::string(v.type_name()));
   const double x = infinite ? (v.get<std::string>() == "inf" ? INFINITY : -INFINITY) : v.get<double>();
-  if (!(x >= lo && x <= hi)) {
+  if (std::isnan(x)) fail(where, "expected a number, got NaN");  // only --set can spell it
+  if (!(x >= lo && x <= hi) || (above_lo && x == lo)) {
     std::ostringstream s;
-    s << "value " << x << " is out of range [" << lo << ", " << hi << "]";
+    s << "value " << x << " is out of range " << (above_lo ? "(" : "[") << lo << ", " << hi << "]";
     fail(where, s.str());
   }
   return x;
@@ -118,9 +120,11 @@ Field<S> enum_field(std::string key, const EnumName<E> (&table)[N], M member) {
           [&table, member](S& s, const json& v, const std::string& w) { member(s) = enum_value(table, v, w); }};
 }
 template <class S, class M>
-Field<S> number_field(std::string key, M member, double lo, double hi) {
+Field<S> number_field(std::string key, M member, double lo, double hi, bool above_lo = false) {
   return {key, [member](const S& s) { return number_json(member(const_cast<S&>(s))); },
-          [member, lo, hi](S& s, const json& v, const std::string& w) { member(s) = number(v, w, lo, hi); }};
+          [member, lo, hi, above_lo](S& s, const json& v, const std::string& w) {
+            member(s) = number(v, w, lo, hi, above_lo);
+          }};
 }
 template <class S, class M>
 Field<S> int_field(std::string key, M member, int lo, int hi) {
@@ -189,7 +193,7 @@ const std::vector<Field<Scene>>& settings() {
       enum_field<Scene>("marcher", kMarchers, MEMBER(Scene, march.marcher)),
       int_field<Scene>("max_steps", MEMBER(Scene, march.max_steps), 0, 1 << 24),
       number_field<Scene>("max_dist", MEMBER(Scene, march.max_dist), 0, INFINITY),
-      number_field<Scene>("hit_eps", MEMBER(Scene, march.hit_eps), 0, 1e6),
+      number_field<Scene>("hit_eps", MEMBER(Scene, march.hit_eps), 0, 1e6, true),
       enum_field<Scene>("eps_mode", kEpsModes, MEMBER(Scene, march.eps_mode)),
       number_field<Scene>("step_scale", MEMBER(Scene, march.step_scale), 1e-6, 2),
       number_field<Scene>("relaxation", MEMBER(Scene, march.relaxation), 1, 2),
@@ -293,7 +297,9 @@ json write_fields(const S& value, const std::vector<Field<S>>& fields) {
 template <class S>
 void read_fields(S& value, const json& j, const std::vector<Field<S>>& fields, const std::string& where) {
   if (!j.is_object()) fail(where, "expected an object");
-  for (const auto& [key, v] : j.items()) {
+  for (const auto& item : j.items()) {  // not a structured binding: clang 14 cannot capture one in a lambda
+    const std::string& key = item.key();
+    const json& v = item.value();
     auto f = std::find_if(fields.begin(), fields.end(), [&](const Field<S>& x) { return x.key == key; });
     if (f == fields.end()) {
       std::string expected;
@@ -474,6 +480,33 @@ std::pair<int, int> line_column(std::string_view text, size_t byte) {
   return {line, column};
 }
 
+// Where the parser gave up on a number too large for a double, and its text: a second pass that only listens.
+std::pair<size_t, std::string> overflow_place(std::string_view text) {
+  struct Listener : nlohmann::json_sax<json> {
+    size_t byte = 0;
+    std::string token;
+    bool null() override { return true; }
+    bool boolean(bool) override { return true; }
+    bool number_integer(number_integer_t) override { return true; }
+    bool number_unsigned(number_unsigned_t) override { return true; }
+    bool number_float(number_float_t, const string_t&) override { return true; }
+    bool string(string_t&) override { return true; }
+    bool binary(binary_t&) override { return true; }
+    bool start_object(std::size_t) override { return true; }
+    bool key(string_t&) override { return true; }
+    bool end_object() override { return true; }
+    bool start_array(std::size_t) override { return true; }
+    bool end_array() override { return true; }
+    bool parse_error(std::size_t position, const std::string& last_token, const nlohmann::detail::exception&) override {
+      byte = position >= last_token.size() ? position - last_token.size() : 0;
+      token = last_token;
+      return false;
+    }
+  } listener;
+  json::sax_parse(text.begin(), text.end(), &listener);
+  return {listener.byte, listener.token};
+}
+
 }  // namespace
 
 std::vector<std::string> declared_effects(const Scene& scene) {
@@ -612,6 +645,12 @@ Scene scene_from_json(std::string_view text, const std::string& source, const Me
     std::string what = e.what();
     if (const auto pos = what.find("syntax error"); pos != std::string::npos) what = what.substr(pos);
     throw SceneError(source + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + what);
+  } catch (const json::out_of_range&) {
+    // A number beyond the double range (fuzz_scene found "1e3080"); the exception carries no position.
+    const auto [byte, token] = overflow_place(text);
+    const auto [line, column] = line_column(text, byte);
+    throw SceneError(source + ":" + std::to_string(line) + ":" + std::to_string(column) + ": the number " +
+                     token.substr(0, 40) + " is beyond the range of a double");
   }
   try {
     Scene scene;
@@ -664,7 +703,10 @@ Scene scene_from_json(std::string_view text, const std::string& source, const Me
         const std::string where = "/meshes/" + std::to_string(i);
         check_keys(mj, where, {"name", "vertices", "triangles", "material"});
         TriangleMesh mesh;
-        if (mj.contains("name")) mesh.name = mj["name"].is_string() ? mj["name"].get<std::string>() : "";
+        if (mj.contains("name")) {
+          if (!mj["name"].is_string()) fail(where + "/name", "expected a string");
+          mesh.name = mj["name"].get<std::string>();
+        }
         if (!mj.contains("vertices") || !mj["vertices"].is_array()) fail(where, "needs \"vertices\" (an array of [x, y, z])");
         if (!mj.contains("triangles") || !mj["triangles"].is_array()) fail(where, "needs \"triangles\" (an array of [i, j, k])");
         for (size_t v = 0; v < mj["vertices"].size(); ++v)
@@ -678,6 +720,7 @@ Scene scene_from_json(std::string_view text, const std::string& source, const Me
                                     static_cast<unsigned>(integer(tri[1], tw + "/1", 0, hi)),
                                     static_cast<unsigned>(integer(tri[2], tw + "/2", 0, hi))});
         }
+        if (mesh.triangles.empty()) fail(where, "needs at least one triangle");
         if (mj.contains("material")) {
           if (!mj["material"].is_string()) fail(where + "/material", "expected a material name");
           mesh.material = find_material(scene, mj["material"].get<std::string>());

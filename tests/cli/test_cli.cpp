@@ -11,6 +11,12 @@
 
 namespace {
 
+void expect_bad_input(const std::string& args, const std::string& message) {
+  const CommandRun r = run(args);
+  EXPECT_EQ(r.status, 2) << args << "\n" << r.output;
+  EXPECT_NE(r.output.find(message), std::string::npos) << args << "\n" << r.output;
+}
+
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -108,11 +114,7 @@ TEST_F(Cli, BadInputExitsTwoWithAMessageAndWritesNothing) {
       {"validate " + path("no-mesh.json"), "no-mesh.json: /sdf/mesh: " + path("gone.obj")},
       {"render " + path("no-mesh.json") + " -o " + path("x.png"), "no-mesh.json: /sdf/mesh: " + path("gone.obj")},
   };
-  for (const auto& c : cases) {
-    const CommandRun r = run(c.args);
-    EXPECT_EQ(r.status, 2) << c.args << "\n" << r.output;
-    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
-  }
+  for (const auto& c : cases) expect_bad_input(c.args, c.message);
   EXPECT_FALSE(std::filesystem::exists(path("x.png")));
   for (const auto& entry : std::filesystem::directory_iterator(dir_))
     EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
@@ -153,6 +155,91 @@ TEST_F(Cli, CompareExitsOneOnAWorseMetricZeroOnTheSameFileTwoOnBadInput) {
   EXPECT_EQ(junk.status, 2);
   EXPECT_NE(junk.output.find("junk.json"), std::string::npos) << junk.output;
   EXPECT_EQ(run("compare " + path("base.json") + " " + path("nope.json")).status, 2);
+}
+
+// One scene file per bad-input class: each names the file, the place (line:column or JSON path) and what was
+// expected, and exits 2 before anything is written.
+TEST_F(Cli, BadSceneFilesExitTwoNamingTheFileThePlaceAndTheProblem) {
+  const std::string sphere = R"("sdf": {"type": "sphere", "radius": 1})";
+  std::string deep = R"({"sdf": )";
+  for (int i = 0; i < 10000; ++i) deep += R"({"type": "round", "radius": 0, "child": )";
+  deep += R"({"type": "sphere", "radius": 1})" + std::string(10001, '}');
+  struct Case {
+    std::string name, text, message;
+  };
+  const Case cases[] = {
+      {"syntax", "{\n  \"sdf\": {\"type\": \"sphere\", \"radius\": 1,}\n}\n", "syntax.json:2:41: syntax error"},
+      {"truncated", "{\"sdf\": {\"type\": \"sphere\"", "truncated.json:1:26: syntax error"},
+      {"unknown-key", R"({"max_step": 3, )" + sphere + "}", "unknown-key.json: /max_step: unknown key; expected one of"},
+      {"unknown-type", R"({"sdf": {"type": "blob"}})", "unknown-type.json: /sdf/type: unknown type 'blob'; expected one of"},
+      {"wrong-type", R"({"sdf": {"type": "sphere", "radius": [1]}})",
+       "wrong-type.json: /sdf/radius: expected a number, got array"},
+      {"negative-radius", R"({"sdf": {"type": "sphere", "radius": -1}})",
+       "negative-radius.json: /sdf/radius: value -1 is out of range [1e-12, 1e+300]"},
+      {"zero-eps", R"({"hit_eps": 0, )" + sphere + "}", "zero-eps.json: /hit_eps: value 0 is out of range (0, 1e+06]"},
+      {"negative-steps", R"({"max_steps": -5, )" + sphere + "}",
+       "negative-steps.json: /max_steps: value -5 is out of range [0, 1.67772e+07]"},
+      {"nan", R"({"hit_eps": NaN, )" + sphere + "}", "nan.json:1:13: syntax error"},
+      {"deep", deep, "deep.json: /sdf/child/child/"},
+      {"bad-mesh-index", R"({"meshes": [{"vertices": [[0,0,0],[1,0,0],[0,1,0]], "triangles": [[0,1,3]]}], )" + sphere + "}",
+       "bad-mesh-index.json: /meshes/0/triangles/0/2: value 3 is out of range [0, 2]"},
+  };
+  for (const auto& c : cases) {
+    std::ofstream(path(c.name + ".json"), std::ios::binary) << c.text;
+    const CommandRun r = run("render " + path(c.name + ".json") + " --size 8x8 -o " + path("x.png"));
+    EXPECT_EQ(r.status, 2) << c.name << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.name << "\n" << r.output;
+    EXPECT_EQ(r.output.rfind("marchcheck render: " + path(c.name + ".json"), 0), 0u) << r.output;
+  }
+  EXPECT_NE(run("render " + path("deep.json") + " -o " + path("x.png")).output.find("nests deeper than 64 levels"),
+            std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(path("x.png")));
+}
+
+TEST_F(Cli, BadArgumentsExitTwoWithAMessage) {
+  struct Case {
+    std::string args, message;
+  };
+  const Case cases[] = {
+      {"render lee-flat --frobnicate", "The following argument was not expected: --frobnicate"},
+      {"render", "scene is required"},
+      {"render lee-flat --set max_steps -o " + path("x.png"), "--set max_steps: expected KEY=VALUE"},
+      {"render lee-flat --set hit_eps=0 -o " + path("x.png"), "--set hit_eps=0: value 0 is out of range (0, 1e+06]"},
+      {"render lee-flat --set hit_eps=nan -o " + path("x.png"), "--set hit_eps=nan: expected a number, got NaN"},
+      {"render lee-flat --set max_steps=-1 -o " + path("x.png"), "--set max_steps=-1: value -1 is out of range"},
+      {"render lee-flat --set marcher=warp -o " + path("x.png"), "'warp' is not one of sphere, relaxed, fixed, scaled"},
+      {"render lee-flat --size 0x10 -o " + path("x.png"), "--size 0x10: expected WIDTHxHEIGHT, each 1..16384"},
+      {"render lee-flat --size 99999999999x10 -o " + path("x.png"), "--size 99999999999x10: expected WIDTHxHEIGHT"},
+      {"render lee-flat --size 64x36x2 -o " + path("x.png"), "--size 64x36x2: expected WIDTHxHEIGHT"},
+      {"validate lee-flat --set nope=1", "marchcheck validate: --set nope: unknown key; expected one of"},
+  };
+  for (const auto& c : cases) expect_bad_input(c.args, c.message);
+  EXPECT_FALSE(std::filesystem::exists(path("x.png")));
+}
+
+TEST_F(Cli, AFailedWriteKeepsThePreviousFileAndLeavesNoTemporary) {
+  // The image writer fails (no writer for the extension) after the render: the old file stays as it was.
+  std::ofstream(path("old.nope")) << "previous image";
+  const CommandRun image = run("render lee-flat --size 8x8 -o " + path("old.nope"));
+  EXPECT_EQ(image.status, 2) << image.output;
+  EXPECT_NE(image.output.find(path("old.nope") + ": no image writer"), std::string::npos) << image.output;
+  std::ifstream old(path("old.nope"));
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(old), {}), "previous image");
+  // The stats go where a non-empty folder is in the way: the rename fails, status 2, the folder is untouched.
+  std::filesystem::create_directories(path("stats.json/inside"));
+  const CommandRun stats = run("render lee-flat --size 8x8 -o " + path("new.png") + " --stats " + path("stats.json"));
+  EXPECT_EQ(stats.status, 2) << stats.output;
+  EXPECT_NE(stats.output.find(path("stats.json") + ": cannot move the finished file into place"), std::string::npos)
+      << stats.output;
+  EXPECT_TRUE(std::filesystem::is_directory(path("stats.json/inside")));
+  // A folder that does not exist: nothing is created.
+  const CommandRun missing = run("render lee-flat --size 8x8 -o " + path("no/such/dir/x.png"));
+  EXPECT_EQ(missing.status, 2) << missing.output;
+  EXPECT_NE(missing.output.find(path("no/such/dir/x.png") + ": cannot write the image"), std::string::npos)
+      << missing.output;
+  EXPECT_FALSE(std::filesystem::exists(path("no")));
+  for (const auto& entry : std::filesystem::directory_iterator(dir_))
+    EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
 }
 
 }  // namespace

@@ -237,8 +237,8 @@ TEST(Mirror, ShowsTheReflectedObjectWhereGeometrySays) {
   EXPECT_NEAR(centre[0], 0.3 * 1.0, 1e-6) << "the sphere's red, lit by ambient only";
   EXPECT_NEAR(centre[2], 0.0, 1e-6);
   s.effects.max_bounces = 0;
-  const float* plain = render(s).color.at(16, 16);
-  EXPECT_NEAR(plain[2], 0.3, 1e-6) << "without bounces the floor shows its own blue";
+  const RenderResult without = render(s);  // kept alive: a pointer into a temporary's pixels would dangle
+  EXPECT_NEAR(without.color.at(16, 16)[2], 0.3, 1e-6) << "without bounces the floor shows its own blue";
 }
 
 TEST(Fog, BlendsTowardTheFogColourByExpOfDistance) {

@@ -241,6 +241,15 @@ TEST(LoadMesh, ObjDefects) {
   expect_load_error(path, "fewer than three coordinates");
   write_bytes(path, v + "f 1 2\n");
   expect_load_error(path, "line 4: face 1 has 2 vertices");
+  // Found by fuzz_mesh_obj: corners OpenMesh cannot parse make its reader assert and abort the program.
+  for (const char* corner : {"/1", "3x", "-", "1/", "1/2/", "1//", "1/x/3", "1/2/3/4"}) {
+    write_bytes(path, v + "f 1 2 " + corner + "\n");
+    expect_load_error(path, "line 4: face 1: corner '" + std::string(corner) + "' is not v, v/t, v//n or v/t/n");
+  }
+  for (const char* corner : {"3", "3/1", "3//1", "3/1/1", "-1"}) {  // the guard passes every valid form
+    write_bytes(path, v + "vt 0 0\nvn 0 0 1\nf 1 2 " + corner + "\n");
+    EXPECT_EQ(load_mesh(path).triangles.size(), 1u) << corner;
+  }
   write_bytes(path, v);
   expect_load_error(path, "no triangles");
 }
@@ -271,6 +280,16 @@ TEST(LoadMesh, OffDefects) {
   expect_load_error(path, "line 3: '#' comments are not supported");
   write_bytes(path, "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   expect_load_error(path, "line 1: put the counts on the line after 'OFF'");
+  // Found by fuzz_mesh_off: a missing edge count shifts OpenMesh's reading by one value (here into a 2 GB
+  // allocation), and its binary reader can spin forever.
+  write_bytes(path, "OFF\n3 1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_load_error(path, "line 2: expected the vertex, face and edge counts");
+  write_bytes(path, "OFF\n3 1 0 7\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_load_error(path, "line 2: expected the vertex, face and edge counts");
+  write_bytes(path, "OFF\rBINARY\n0 0 1\n1 0 0\n");
+  expect_load_error(path, "binary OFF is not supported");
+  write_bytes(path, "nOFF\n3\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_load_error(path, "n-dimensional OFF ('nOFF') is not supported");
   // Blank lines and CRLF are fine.
   write_bytes(path, "OFF\r\n\r\n3 1 0\r\n0 0 0\r\n1 0 0\r\n\r\n0 1 0\r\n3 0 1 2\r\n");
   EXPECT_EQ(load_mesh(path).triangles.size(), 1u);
@@ -296,6 +315,14 @@ TEST(LoadMesh, PlyDefects) {
   expect_load_error(path, "no end_header");
   write_bytes(path, header.substr(0, 40));
   expect_load_error(path, "line 4: malformed PLY header line 'pr'");
+  // Found by fuzz_mesh_ply: OpenMesh's header reader never returns on a version that is not a number.
+  std::string bad_version = header;
+  bad_version.replace(bad_version.find("1.0"), 3, "\xb1.0");
+  write_bytes(path, bad_version + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_load_error(path, "line 2: PLY version '\xb1.0' is not 1.0");
+  bad_version.replace(bad_version.find("\xb1.0"), 3, "2.0");
+  write_bytes(path, bad_version + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_load_error(path, "line 2: PLY version '2.0' is not 1.0");
 
   // Binary: NaN and truncation are caught after OpenMesh has read the file.
   Mesh m = box({1, 1, 1}).mesh;

@@ -83,6 +83,33 @@ TEST(SceneFile, ContentErrorsGiveTheJsonPathAndWhatWasExpected) {
   EXPECT_EQ(error_of(R"({"name": "x"})"), "bad.json: : missing \"sdf\" (the scene's shape tree)");
 }
 
+TEST(SceneFile, OutOfRangeAndWronglyTypedValuesNameTheRange) {
+  const std::string sphere = R"("sdf": {"type": "sphere", "radius": 1})";
+  // hit_eps = 0 can never be reached by a float march: the range is open at 0.
+  EXPECT_EQ(error_of(R"({"hit_eps": 0, )" + sphere + "}"), "bad.json: /hit_eps: value 0 is out of range (0, 1e+06]");
+  EXPECT_EQ(error_of(R"({"hit_eps": -1e-3, )" + sphere + "}"),
+            "bad.json: /hit_eps: value -0.001 is out of range (0, 1e+06]");
+  EXPECT_EQ(error_of(R"({"max_steps": -1, )" + sphere + "}"),
+            "bad.json: /max_steps: value -1 is out of range [0, 1.67772e+07]");
+  EXPECT_EQ(error_of(R"({"camera": 3, )" + sphere + "}"), "bad.json: /camera: expected an object");
+  EXPECT_EQ(error_of(R"({"lights": {}, )" + sphere + "}"), "bad.json: /lights: expected an array");
+  EXPECT_EQ(error_of(R"({"camera": {"position": [0, 1]}, )" + sphere + "}"),
+            "bad.json: /camera/position: expected an array of 3 numbers");
+  EXPECT_EQ(error_of(R"({"normal_eps_scaled": 1, )" + sphere + "}"),
+            "bad.json: /normal_eps_scaled: expected true or false");
+  EXPECT_EQ(error_of(R"({"sdf": {"type": "box", "half_size": [1, -0.25, 1]}})"),
+            "bad.json: /sdf/half_size/1: value -0.25 is out of range [1e-12, 1e+300]");
+  EXPECT_EQ(error_of(R"({"meshes": [{"vertices": [], "triangles": []}], )" + sphere + "}"),
+            "bad.json: /meshes/0: needs at least one triangle");
+  // Found by fuzz_scene: the JSON parser's overflow error has no position and escaped as another exception type.
+  EXPECT_EQ(error_of("{\"hit_eps\": 1e3080, " + sphere + "}"),
+            "bad.json:1:13: the number 1e3080 is beyond the range of a double");
+  EXPECT_EQ(error_of("{\n \"sdf\": {\"type\": \"sphere\", \"radius\": -22222222222e2222222222222}}"),
+            "bad.json:2:38: the number -22222222222e2222222222222 is beyond the range of a double");
+  // JSON has no NaN literal: it is a syntax error at its place.
+  EXPECT_EQ(error_of("{\"hit_eps\": NaN, " + sphere + "}").rfind("bad.json:1:13: syntax error", 0), 0u);
+}
+
 TEST(SceneFile, DeepNestingIsRefused) {
   std::string text = R"({"sdf": )";
   for (int i = 0; i < 100; ++i) text += R"({"type": "round", "radius": 0, "child": )";
@@ -156,6 +183,18 @@ TEST_F(MeshScene, MissingOrBadMeshesAndNoLoaderNameTheFileAndTheJsonPath) {
   EXPECT_THROW(builtin_scene("mesh-icosphere"), SceneError);  // built-ins with meshes need the loader too
 }
 
+// 10000 nested nodes, and a million nested arrays anywhere in the file: an error, not a stack overflow (the
+// JSON parser and its destructor are iterative; the tree reader stops at 64 levels).
+TEST(SceneFile, VeryDeepNestingGivesAnErrorNotAStackOverflow) {
+  std::string text = R"({"sdf": )";
+  for (int i = 0; i < 10000; ++i) text += R"({"type": "round", "radius": 0, "child": )";
+  text += R"({"type": "sphere", "radius": 1})" + std::string(10001, '}');
+  EXPECT_EQ(error_of(text).rfind("bad.json: /sdf/child/child/", 0), 0u);
+  EXPECT_NE(error_of(text).find(": the tree nests deeper than 64 levels"), std::string::npos);
+  const std::string arrays = R"({"limits": )" + std::string(1000000, '[') + std::string(1000000, ']') + "}";
+  EXPECT_EQ(error_of(arrays), "bad.json: /limits: expected an object of metric names to numbers");
+}
+
 TEST(Settings, OverridesParseTypedValuesAndRejectBadOnes) {
   Scene s = builtin_scene("lee-flat");
   apply_setting(s, "max_steps", "64");
@@ -169,6 +208,28 @@ TEST(Settings, OverridesParseTypedValuesAndRejectBadOnes) {
   EXPECT_THROW(apply_setting(s, "max_step", "64"), SceneError);
   EXPECT_THROW(apply_setting(s, "max_steps", "many"), SceneError);
   EXPECT_THROW(apply_setting(s, "hit_eps", "-1"), SceneError);
+}
+
+std::string setting_error(const std::string& key, const std::string& value) {
+  Scene s = builtin_scene("lee-flat");
+  try {
+    apply_setting(s, key, value);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(Settings, BadValuesNameTheKeyTheValueAndWhatWasExpected) {
+  EXPECT_EQ(setting_error("hit_eps", "nan"), "hit_eps=nan: expected a number, got NaN");
+  EXPECT_EQ(setting_error("hit_eps", "0"), "hit_eps=0: value 0 is out of range (0, 1e+06]");
+  EXPECT_EQ(setting_error("max_steps", "-1"), "max_steps=-1: value -1 is out of range [0, 1.67772e+07]");
+  EXPECT_EQ(setting_error("max_steps", "1e9"), "max_steps=1e9: value 1e+09 is out of range [0, 1.67772e+07]");
+  EXPECT_EQ(setting_error("marcher", "3"), "marcher=3: expected one of sphere, relaxed, fixed, scaled");
+  EXPECT_EQ(setting_error("camera.target", "0,1"), "camera.target=0,1: expected an array of 3 numbers");
+  EXPECT_EQ(setting_error("max_dist", "-inf"), "max_dist=-inf: value -inf is out of range [0, inf]");
+  EXPECT_EQ(setting_error("max_dist", "inf"), "(no error)");  // the broken-variant guard: good values pass
+  EXPECT_EQ(setting_error("hit_eps", "1e-4"), "(no error)");
 }
 
 }  // namespace

@@ -1,0 +1,18 @@
+// Whole files or none: every image and result file the project writes goes through here.
+#pragma once
+
+#include <functional>
+#include <string>
+
+namespace marchcheck::march {
+
+// "dir/name.ext" -> "dir/.name.ext.tmp-PID.ext": same folder (so the rename is atomic), same extension (image
+// writers pick the format from it), hidden, and distinct per process.
+std::string temp_name(const std::string& path);
+
+// Calls write(temp) to fill temp_name(path), then renames it over path. If write throws or the rename fails,
+// the temporary is removed, whatever was at path stays as it was, and std::runtime_error "PATH: problem" is
+// thrown (problem: the writer's message).
+void write_atomically(const std::string& path, const std::function<void(const std::string& temp)>& write);
+
+}  // namespace marchcheck::march

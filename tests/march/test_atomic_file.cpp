@@ -1,0 +1,122 @@
+// Whole files or none: a write that fails leaves the previous file as it was and no temporary behind.
+#include "marchcheck/march/atomic_file.hpp"
+#include "marchcheck/march/render.hpp"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+namespace marchcheck::march {
+namespace {
+
+namespace fs = std::filesystem;
+
+class AtomicFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("marchcheck_atomic_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  static std::string read(const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+  }
+  // The check every test below makes: after a failed write, path holds what it held before and the folder
+  // holds nothing else.
+  ::testing::AssertionResult left_as_before(const std::string& p, const std::string& before) const {
+    if (read(p) != before) return ::testing::AssertionFailure() << p << " now holds '" << read(p) << "'";
+    for (const auto& entry : fs::directory_iterator(dir_))
+      if (entry.path().string() != p) return ::testing::AssertionFailure() << "left behind: " << entry.path();
+    return ::testing::AssertionSuccess();
+  }
+  fs::path dir_;
+};
+
+// A writer that fails halfway: some bytes are out, then it throws (a full disk, an exception mid-render).
+void half_then_throw(const std::string& target) {
+  std::ofstream(target, std::ios::binary) << "half a fi";
+  throw std::runtime_error("disk full");
+}
+
+TEST_F(AtomicFile, TempNameIsHiddenInTheSameFolderWithTheSameExtension) {
+  const std::string pid = std::to_string(::getpid());
+  EXPECT_EQ(temp_name("out/a.png"), "out/.a.png.tmp-" + pid + ".png");
+  EXPECT_EQ(temp_name("v.json"), ".v.json.tmp-" + pid + ".json");
+}
+
+TEST_F(AtomicFile, ReplacesTheFileWhenTheWriteSucceeds) {
+  std::ofstream(path("r.json")) << "old";
+  write_atomically(path("r.json"), [](const std::string& tmp) { std::ofstream(tmp) << "new"; });
+  EXPECT_EQ(read(path("r.json")), "new");
+  EXPECT_TRUE(left_as_before(path("r.json"), "new"));
+}
+
+TEST_F(AtomicFile, AWriterThatThrowsHalfwayLeavesThePreviousFileAndNoTemporary) {
+  std::ofstream(path("r.json")) << "previous results";
+  try {
+    write_atomically(path("r.json"), half_then_throw);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), path("r.json") + ": disk full");
+  }
+  EXPECT_TRUE(left_as_before(path("r.json"), "previous results"));
+}
+
+TEST_F(AtomicFile, AFailedRenameLeavesTheTargetAndNoTemporary) {
+  // A non-empty folder in the way: rename(2) refuses even for root, unlike a read-only folder.
+  fs::create_directories(path("busy.json"));
+  std::ofstream(path("busy.json") + "/inside") << "kept";
+  try {
+    write_atomically(path("busy.json"), [](const std::string& tmp) { std::ofstream(tmp) << "new"; });
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(path("busy.json") + ": cannot move the finished file into place: ", 0), 0u)
+        << e.what();
+  }
+  EXPECT_EQ(read(path("busy.json") + "/inside"), "kept");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);
+}
+
+TEST_F(AtomicFile, AMissingFolderGivesAnErrorNamingThePath) {
+  EXPECT_THROW(write_image(Image(4, 4, 3), path("no/such/folder/a.png")), std::runtime_error);
+  EXPECT_FALSE(fs::exists(path("no")));
+}
+
+TEST_F(AtomicFile, AFailedImageWriteKeepsThePreviousImage) {
+  const Image image(4, 4, 3, 0.5f);
+  write_image(image, path("a.png"));
+  const std::string before = read(path("a.png"));
+  ASSERT_FALSE(before.empty());
+  // OIIO picks the writer from the temporary's extension; an unknown one fails before any byte is written.
+  fs::rename(path("a.png"), path("a.nope"));
+  try {
+    write_image(image, path("a.nope"));
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(path("a.nope") + ": no image writer for this extension", 0), 0u) << e.what();
+  }
+  EXPECT_TRUE(left_as_before(path("a.nope"), before));
+}
+
+// The broken variants the check above must catch: writing in place, and a temporary left behind.
+TEST_F(AtomicFile, TheCheckCatchesAWriterThatWritesInPlaceOrLeavesItsTemporary) {
+  std::ofstream(path("r.json")) << "previous results";
+  EXPECT_THROW(half_then_throw(path("r.json")), std::runtime_error);  // no temp + rename: in place
+  EXPECT_FALSE(left_as_before(path("r.json"), "previous results"));
+
+  std::ofstream(path("s.json")) << "previous results";
+  EXPECT_THROW(half_then_throw(temp_name(path("s.json"))), std::runtime_error);  // no cleanup
+  fs::remove(path("r.json"));
+  EXPECT_FALSE(left_as_before(path("s.json"), "previous results"));
+}
+
+}  // namespace
+}  // namespace marchcheck::march
