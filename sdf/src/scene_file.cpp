@@ -366,7 +366,8 @@ json node_to_json(const Node& n, const Scene& scene) {
 std::string resolve_mesh_source(const std::string& source, const std::string& scene_path) {
   const std::filesystem::path p(source);
   if (source.starts_with("procedural:") || p.is_absolute()) return source;
-  return (std::filesystem::absolute(std::filesystem::path(scene_path).parent_path()) / p).lexically_normal().string();
+  // absolute() first: a bare "scene.json" has no parent path, and absolute("") is an error.
+  return (std::filesystem::absolute(scene_path).parent_path() / p).lexically_normal().string();
 }
 
 Node node_from_json(const json& j, const std::string& path, const Scene& scene, const std::string& scene_path,

@@ -196,6 +196,32 @@ TEST_F(Cli, BadSceneFilesExitTwoNamingTheFileThePlaceAndTheProblem) {
   EXPECT_FALSE(std::filesystem::exists(path("x.png")));
 }
 
+// Mesh files a scene names: each broken file is refused with its name and the problem, status 2, nothing written.
+TEST_F(Cli, BadMeshFilesInASceneExitTwoNamingTheMeshFile) {
+  struct Case {
+    std::string file, text, message;
+  };
+  const Case cases[] = {
+      {"truncated.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n", "truncated.off"},
+      {"garbage.obj", std::string("\x7f\x45\x4c\x46\x02\x01\x01\x00 not a mesh", 22), "garbage.obj"},
+      {"nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n", "nan.obj"},
+      {"index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 9\n", "index.obj"},
+  };
+  for (const auto& c : cases) {
+    std::ofstream(path(c.file), std::ios::binary) << c.text;
+    std::ofstream(path("scene.json")) << R"({"sdf": {"mesh": ")" << c.file << R"("}})";
+    const CommandRun r = run("render " + path("scene.json") + " --size 8x8 -o " + path("x.png"));
+    EXPECT_EQ(r.status, 2) << c.file << "\n" << r.output;
+    EXPECT_NE(r.output.find("scene.json: /sdf/mesh: "), std::string::npos) << c.file << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.file << "\n" << r.output;
+    // The same from the scene's own folder with a bare file name (a path with no folder part).
+    const CommandRun here = run_shell("cd " + dir_.string() + " && " + MARCHCHECK_BINARY + " render scene.json --size 8x8 -o x.png");
+    EXPECT_EQ(here.status, 2) << c.file << "\n" << here.output;
+    EXPECT_NE(here.output.find("scene.json: /sdf/mesh: " + path(c.file)), std::string::npos) << here.output;
+  }
+  EXPECT_FALSE(std::filesystem::exists(path("x.png")));
+}
+
 TEST_F(Cli, BadArgumentsExitTwoWithAMessage) {
   struct Case {
     std::string args, message;
