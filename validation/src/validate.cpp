@@ -103,6 +103,7 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
   const Runner<T> run{scene, tape, ctx};
   const bool exact_outside = is_exact_outside(scene.root, scene.time);
   const double max_dist = std::isfinite(scene.march.max_dist) ? scene.march.max_dist : 1e6;
+  const double declared = info.lipschitz;
 
   int rays = 0, false_hit = 0, false_miss = 0, overshoot = 0, undecided = 0, ambiguous = 0;
   int shadow_samples = 0, false_shadow = 0, false_lit = 0;
@@ -147,11 +148,15 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
         // An upper bound on the hit point's distance to the true surface: the nearest reference surface along
         // 26 directions, the ray's own and the reference normal's reverse (exact where the surface is flat).
         double upper = rh.hit ? std::abs(rh.t - t_m) : INFINITY;
+        dvec3 toward = t_m < rh.t ? dn : -dn;  // from the hit point to the nearest surface point found
         bool inside = false;
         auto probe = [&](dvec3 dir) {
           const ReferenceHit h = ref.first_hit(p_m, glm::normalize(dir), 1e9);
           inside = inside || h.inside;
-          if (h.hit) upper = std::min(upper, h.t);
+          if (h.hit && h.t < upper) {
+            upper = h.t;
+            toward = glm::normalize(dir);
+          }
         };
         if (rh.hit) probe(-rh.normal);
         if (glm::length(n_m) > 0) probe(-n_m);
@@ -162,19 +167,36 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
         // Float rounding of the hit point itself is allowed on top of the threshold.
         const double rounding = 4 * std::numeric_limits<T>::epsilon() * (glm::length(ray.origin) + t_m);
         const double allowed = eps_m * len + rounding + ref.t_error_bound();
-        if (inside) upper = 0;  // within the solid: the surface distance is unknown, the hit is wrong anyway
-        if (inside || (rh.hit && t_m > rh.t + band && upper > allowed)) {
+        // Within the solid but no farther past the first surface than the hit point's float rounding: rounded
+        // across the surface (t's own ulp at t = 100 is 8e-6), not a step through it.
+        const bool just_past = inside && rh.hit && std::abs(t_m - rh.t) <= rounding + ref.t_error_bound();
+        if (inside && !just_past) upper = 0;  // deeper in the solid: the surface distance is unknown, the hit is wrong
+        if ((inside && !just_past) || (rh.hit && t_m > rh.t + band && upper > allowed)) {
           ++overshoot;  // the march went through the first surface
           continue;
         }
-        if (upper > 2 * allowed + band) {
+        // A bound may be below the threshold farther from the surface than the threshold (where its gradient
+        // is small): such a hit is honest when |f| stays below the threshold on the straight way to the nearest
+        // surface point (a field whose own solid covers the gap is negative there: a wrong surface, still
+        // caught). Samples eps / L apart, all below eps: |f| < 1.5 eps on the whole way.
+        auto in_shell = [&] {
+          if (exact_outside || !std::isfinite(upper)) return false;
+          const int n = static_cast<int>(std::min(4096.0, std::ceil(upper * declared / eps_m))) + 1;
+          for (int s = 0; s <= n; ++s)
+            if (std::abs(sdf::evaluate(tape, p_m + toward * (upper * s / n))) >= eps_m) return false;
+          return true;
+        };
+        if (upper > 2 * allowed + band && !in_shell()) {
           ++false_hit;  // nothing the reference knows is near the marched hit
           continue;
         }
         surface_dist_max = std::max(surface_dist_max, upper);
         // Only a field exact outside its solid promises hits within the threshold: a bound may stop farther.
         if (exact_outside) surface_over_eps = std::max(surface_over_eps, upper / (allowed + 1e-300));
-        if (!rh.hit) continue;  // a legitimate near-hit on a surface the ray itself passes by
+        // A legitimate near-hit on a surface the ray itself passes by: nothing to compare t or the normal with.
+        // The ray's own gap to the reference hit beyond 10x the nearest surface's distance means it meets the
+        // surface there at more than 84 degrees from its normal, or not at this point at all.
+        if (!rh.hit || std::abs(rh.t - t_m) > 10 * (upper + allowed) + band) continue;
         t_err.push_back(std::abs(t_m - rh.t));
         (at_edge ? edge_angle : angle)
             .push_back(std::acos(std::clamp(glm::dot(n_m, rh.normal), -1.0, 1.0)) * 180 / std::numbers::pi);
@@ -246,7 +268,6 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
   std::normal_distribution<double> g;
   std::uniform_real_distribution<double> u(0, 1);
   double lipschitz = 0, overestimate = -INFINITY;
-  const double declared = info.lipschitz;
   const size_t stride = std::max<size_t>(1, surface_points.size() / 300);
   for (size_t k = 0; k < surface_points.size(); k += stride) {
     const auto [p0, t0] = surface_points[k];
