@@ -398,7 +398,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
         p.normal = V(p.mesh.normal);
         p.material = p.mesh.material;
       }
-      for (auto& v : p.visibility) v = 1;
+      std::fill_n(p.visibility, ctx.scene.lights.size(), 1.0);  // only the lights' entries are read
       return 0;
     }
     p.on_mesh = p.mesh.hit && p.record.outcome != Outcome::hit;
@@ -413,7 +413,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
       p.normal = V(p.mesh.normal);
       p.material = p.mesh.material;
     }
-    for (auto& v : p.visibility) v = 1;
+    std::fill_n(p.visibility, ctx.scene.lights.size(), 1.0);  // only the lights' entries are read
     return p.record.evals;
   });
   const bool batched_normals = s.normal == NormalMethod::central;  // the others stay one point at a time
