@@ -134,14 +134,19 @@ void march_packet(const sdf::Tape& tape, const PacketRay<T>* rays, RayRecord<T>*
   const auto one_point = [&tape](glm::vec<3, T> p) { return sdf::evaluate(tape, p); };
   SphereTrace<T> traces[kMaxPacket];
   int active[kMaxPacket];
+  // settings_invalid reads max_dist only as max_dist > 0: decided once here rather than per ray.
+  MarchSettings unit = s;
+  unit.max_dist = 1;
+  const bool settings_bad = settings_invalid(unit, c);
   for (int base = 0; base < n; base += kMaxPacket) {
     const int m = std::min(kMaxPacket, n - base);
     int count = 0;
     for (int i = 0; i < m; ++i) {
       const PacketRay<T>& ray = rays[base + i];
-      MarchSettings own = s;
-      own.max_dist = ray.max_dist;
-      if (s.marcher == Marcher::fixed || detail::ray_invalid(ray.origin, ray.direction, T(0), own, c)) {
+      if (s.marcher == Marcher::fixed || settings_bad || !(ray.max_dist > 0) ||
+          detail::ray_degenerate(ray.origin, ray.direction, T(0))) {
+        MarchSettings own = s;
+        own.max_dist = ray.max_dist;
         records[base + i] = march<T>(one_point, ray.origin, ray.direction, own, c);  // rare: one point at a time
         continue;
       }

@@ -79,6 +79,7 @@ constexpr int kTile = 16;
 
 struct Counters {
   std::array<StageCost, kStageCount> stages{};
+  int steps_max = 0;
 };
 
 using Clock = std::chrono::steady_clock;
@@ -397,7 +398,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
         p.normal = V(p.mesh.normal);
         p.material = p.mesh.material;
       }
-      for (auto& v : p.visibility) v = 1;
+      std::fill_n(p.visibility, ctx.scene.lights.size(), 1.0);  // only the lights' entries are read
       return 0;
     }
     p.on_mesh = p.mesh.hit && p.record.outcome != Outcome::hit;
@@ -412,7 +413,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
       p.normal = V(p.mesh.normal);
       p.material = p.mesh.material;
     }
-    for (auto& v : p.visibility) v = 1;
+    std::fill_n(p.visibility, ctx.scene.lights.size(), 1.0);  // only the lights' entries are read
     return p.record.evals;
   });
   const bool batched_normals = s.normal == NormalMethod::central;  // the others stay one point at a time
@@ -554,14 +555,19 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     }
     float* c = out.color.at(x, y);
     for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(color[i]);
-    *out.depth.at(x, y) = p.hit || p.on_mesh ? static_cast<float>(p.record.t) : INFINITY;
-    float* n = out.normal.at(x, y);
-    for (int i = 0; i < 3; ++i) n[i] = static_cast<float>(p.normal[i]);
-    *out.steps.at(x, y) = static_cast<float>(p.record.steps);
-    *out.evals.at(x, y) = static_cast<float>(p.evals);
-    for (int i = 0; i < kStageCount; ++i) out.stage_evals.at(x, y)[i] = static_cast<float>(p.stage_evals[static_cast<size_t>(i)]);
-    *out.id.at(x, y) = static_cast<float>(p.material);
-    *out.outcome.at(x, y) = static_cast<float>(p.record.outcome);
+    counters.steps_max = std::max(counters.steps_max, p.record.steps);
+    // Images not kept are empty (render's `images`).
+    if (!out.depth.pixels.empty()) *out.depth.at(x, y) = p.hit || p.on_mesh ? static_cast<float>(p.record.t) : INFINITY;
+    if (!out.normal.pixels.empty()) {
+      float* n = out.normal.at(x, y);
+      for (int i = 0; i < 3; ++i) n[i] = static_cast<float>(p.normal[i]);
+    }
+    if (!out.steps.pixels.empty()) *out.steps.at(x, y) = static_cast<float>(p.record.steps);
+    if (!out.evals.pixels.empty()) *out.evals.at(x, y) = static_cast<float>(p.evals);
+    if (!out.stage_evals.pixels.empty())
+      for (int i = 0; i < kStageCount; ++i) out.stage_evals.at(x, y)[i] = static_cast<float>(p.stage_evals[static_cast<size_t>(i)]);
+    if (!out.id.pixels.empty()) *out.id.at(x, y) = static_cast<float>(p.material);
+    if (!out.outcome.pixels.empty()) *out.outcome.at(x, y) = static_cast<float>(p.record.outcome);
   });
   // Secondary rays run inside the shading loop and book their own time: take it out of shading's.
   counters.stages[kShade].seconds += since(start) - bounce_seconds;
@@ -569,7 +575,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
 
 }  // namespace
 
-RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const SurfaceOracle* oracle) {
+RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const SurfaceOracle* oracle, Images images) {
   const auto start = Clock::now();
   const int w = scene.width, h = scene.height;
   if (scene.lights.size() > kMaxLights) throw std::invalid_argument("at most 16 lights");
@@ -584,14 +590,15 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const
 
   RenderResult out;
   out.color = Image(w, h, 3);
-  out.depth = Image(w, h, 1);
-  out.normal = Image(w, h, 3);
-  out.steps = Image(w, h, 1);
-  out.evals = Image(w, h, 1);
-  out.stage_evals = Image(w, h, kStageCount);
+  auto keep = [&](Aov aov) { return images == Images::all || std::find(aovs.begin(), aovs.end(), aov) != aovs.end(); };
+  if (keep(Aov::depth)) out.depth = Image(w, h, 1);
+  if (keep(Aov::normal)) out.normal = Image(w, h, 3);
+  if (keep(Aov::steps)) out.steps = Image(w, h, 1);
+  if (keep(Aov::evals)) out.evals = Image(w, h, 1);
+  if (keep(Aov::stages)) out.stage_evals = Image(w, h, kStageCount);
   out.stage_names.assign(std::begin(kStageNames), std::end(kStageNames));
-  out.id = Image(w, h, 1);
-  out.outcome = Image(w, h, 1);
+  if (keep(Aov::id)) out.id = Image(w, h, 1);
+  if (images == Images::all) out.outcome = Image(w, h, 1);
 
   const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
   tbb::enumerable_thread_specific<Counters> counters;
@@ -604,11 +611,13 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const
     }
   });
   for (int i = 0; i < kStageCount; ++i) out.stages[kStageNames[i]] = {};
-  for (const auto& c : counters)
+  for (const auto& c : counters) {
+    out.steps_max = std::max(out.steps_max, c.steps_max);
     for (int i = 0; i < kStageCount; ++i) {
       out.stages[kStageNames[i]].evals += c.stages[static_cast<size_t>(i)].evals;
       out.stages[kStageNames[i]].seconds += c.stages[static_cast<size_t>(i)].seconds;
     }
+  }
   for (const auto& [name, cost] : out.stages) out.total_evals += cost.evals;
   out.seconds = since(start);
   return out;
@@ -622,9 +631,7 @@ std::map<std::string, double> cost_metrics(const RenderResult& result) {
   }
   m["cost.evals"] = static_cast<double>(result.total_evals);
   m["cost.evals_per_pixel"] = result.evals_per_pixel();
-  m["cost.steps_max"] = result.steps.pixels.empty()
-                            ? 0
-                            : *std::max_element(result.steps.pixels.begin(), result.steps.pixels.end());
+  m["cost.steps_max"] = result.steps_max;
   m["cost.seconds"] = result.seconds;
   return m;
 }

@@ -126,7 +126,7 @@ int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err) {
     reference.emplace(scene.intended ? *scene.intended : scene.root, scene.time);
     oracle = validation::oracle_of(*reference);
   }
-  const auto result = march::render(scene, aovs, oracle ? &*oracle : nullptr);
+  const auto result = march::render(scene, aovs, oracle ? &*oracle : nullptr, march::Images::asked);
   try {
     march::write_render(result, cmd.output, aovs);
     if (cmd.stats) write_text_atomically(*cmd.stats, metrics_json(march::cost_metrics(result)));

@@ -192,7 +192,8 @@ class Builder {
     r.steps_max = steps.empty() ? 0 : static_cast<int>(*std::max_element(steps.begin(), steps.end()));
     march::write_image(march::heat_map(pair.marched.steps, std::max(1, r.steps_max)),
                        (images / (r.file + ".steps.png")).string(), false);
-    const march::RenderResult declared = march::render(sdf::scaled_to_width(scene, std::min(image_width(), scene.width)));
+    const march::RenderResult declared = march::render(sdf::scaled_to_width(scene, std::min(image_width(), scene.width)), {},
+                                                           nullptr, march::Images::asked);
     r.cost = march::cost_metrics(declared);
     r.pixels = std::max(1.0, static_cast<double>(declared.color.width) * declared.color.height);
     r.result.images.reset();  // the pixels are on disk; keep the memory bounded over many scenes

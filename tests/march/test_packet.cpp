@@ -125,5 +125,31 @@ TEST(Packet, ATapeOneRoundingApartIsCaught) {
   EXPECT_GT(m.normals, 0);
 }
 
+// Rays march_packet hands to march() (settings that make no sense, a non-positive max_dist, a degenerate ray)
+// end as march() ends them: invalid, after no evaluation.
+TEST(Packet, InvalidSettingsAndRaysEndInvalidAsOneRayAtATime) {
+  const sdf::Scene scene = sdf::builtin_scene("lee-flat");
+  const sdf::Tape tape = sdf::compile(scene.root);
+  const auto one_point = [&tape](glm::vec3 p) { return sdf::evaluate(tape, p); };
+  const MarchContext c;
+  const std::vector<PacketRay<float>> rays = {{glm::vec3(0, 1, 0), glm::vec3(0, 0, 1), 100},
+                                              {glm::vec3(0, 1, 0), glm::vec3(0, 0, 1), 0},
+                                              {glm::vec3(0, 1, 0), glm::vec3(0), 100},
+                                              {glm::vec3(NAN, 1, 0), glm::vec3(0, 0, 1), 100}};
+  for (const double step_scale : {1.0, double(NAN)}) {
+    MarchSettings s = scene.march;
+    s.step_scale = step_scale;
+    std::vector<RayRecord<float>> records(rays.size());
+    march_packet(tape, rays.data(), records.data(), static_cast<int>(rays.size()), s, c);
+    for (size_t i = 0; i < rays.size(); ++i) {
+      MarchSettings own = s;
+      own.max_dist = rays[i].max_dist;
+      const RayRecord<float> alone = march<float>(one_point, rays[i].origin, rays[i].direction, own, c);
+      EXPECT_TRUE(same(records[i], alone) || (std::isnan(records[i].t) && std::isnan(alone.t))) << i;
+      EXPECT_EQ(records[i].outcome == Outcome::invalid, std::isnan(step_scale) || i > 0) << i;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace marchcheck::march

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <numeric>
 
@@ -43,6 +44,20 @@ TEST_P(EveryBuiltin, SceneFileRendersTheSameImageBitForBit) {
   const RenderResult a = render(scene), b = render(loaded);
   EXPECT_EQ(a.color.pixels, b.color.pixels);
   EXPECT_EQ(a.total_evals, b.total_evals);
+}
+
+// Keeping only the asked-for images changes no pixel and no count: the images left out are merely not written.
+TEST_P(EveryBuiltin, KeepingOnlyAskedImagesChangesNothingElse) {
+  const sdf::Scene scene = small(GetParam(), 64, 36);
+  const RenderResult all = render(scene, {Aov::depth}), asked = render(scene, {Aov::depth}, nullptr, Images::asked);
+  EXPECT_EQ(asked.color.pixels, all.color.pixels);
+  EXPECT_EQ(asked.depth.pixels, all.depth.pixels);
+  EXPECT_EQ(asked.total_evals, all.total_evals);
+  for (const Image* left_out : {&asked.normal, &asked.steps, &asked.evals, &asked.stage_evals, &asked.id, &asked.outcome})
+    EXPECT_TRUE(left_out->pixels.empty());
+  // steps_max stands in for the steps image in cost_metrics.
+  EXPECT_EQ(asked.steps_max, static_cast<int>(*std::max_element(all.steps.pixels.begin(), all.steps.pixels.end())));
+  EXPECT_EQ(cost_metrics(asked).at("cost.steps_max"), cost_metrics(all).at("cost.steps_max"));
 }
 
 TEST_P(EveryBuiltin, EvaluationCountsAddUpAndNoPixelIsNaN) {

@@ -86,12 +86,18 @@ struct Tracker {
 
 namespace detail {
 
-// A ray that cannot be marched: not finite, no direction, or settings that make no sense.
+// A ray whose geometry cannot be marched: not finite or no direction.
+template <class T>
+inline bool ray_degenerate(glm::vec<3, T> origin, glm::vec<3, T> direction, T t_start) {
+  return !finite3(origin) || !finite3(direction) || !std::isfinite(t_start) ||
+         (direction.x == 0 && direction.y == 0 && direction.z == 0);
+}
+
+// A ray that cannot be marched: degenerate, or settings that make no sense.
 template <class T>
 inline bool ray_invalid(glm::vec<3, T> origin, glm::vec<3, T> direction, T t_start, const MarchSettings& s,
                         const MarchContext& c) {
-  return !finite3(origin) || !finite3(direction) || !std::isfinite(t_start) ||
-         (direction.x == 0 && direction.y == 0 && direction.z == 0) || settings_invalid(s, c);
+  return ray_degenerate(origin, direction, t_start) || settings_invalid(s, c);
 }
 
 template <class T, class F>

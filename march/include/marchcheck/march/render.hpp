@@ -55,6 +55,7 @@ struct RenderResult {
   Image id;      // material index, -1 where nothing was hit
   Image outcome;  // march::Outcome as a number
   std::map<std::string, StageCost> stages;
+  int steps_max = 0;  // the most primary march steps of any pixel, kept even where the steps image is not
   std::uint64_t total_evals = 0;
   double seconds = 0;
   double evals_per_pixel() const;
@@ -74,7 +75,13 @@ struct SurfaceOracle {
 // an undeclared stage spends no evaluation and no time. With an oracle, primary hits, normals and hard
 // shadows come from it instead of the marcher, shading uses the camera's true eye, and the effects that only
 // marching defines (step-count occlusion, glow, sampled occlusion, bounces) are left out.
-RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs = {}, const SurfaceOracle* oracle = nullptr);
+//
+// images = all fills every image of RenderResult; images = asked fills the colour and only the AOVs asked for,
+// leaving the others empty (0x0): the per-pixel writes and page faults of unread images are most of a fast
+// render's time otherwise.
+enum class Images { all, asked };
+RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs = {}, const SurfaceOracle* oracle = nullptr,
+                    Images images = Images::all);
 
 // Dotted cost metrics: cost.stages.<stage>.evals/.seconds, cost.evals_per_pixel, cost.steps_max, cost.seconds.
 std::map<std::string, double> cost_metrics(const RenderResult& result);
