@@ -6,7 +6,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <sstream>
 
 namespace {
@@ -47,8 +46,11 @@ BrowserView open_in_chromium(const fs::path& page, const fs::path& scratch) {
                                  (scratch / "profile").string() + " --enable-logging=stderr --v=0 " +
                                  "--virtual-time-budget=10000 --dump-dom file://" + fs::absolute(page).string());
   BrowserView view;
-  std::smatch m;
-  if (std::regex_search(r.output, m, std::regex("data-images-loaded=\"([0-9]+/[0-9]+)\""))) view.images_loaded = m[1];
+  const std::string marker = "data-images-loaded=\"";
+  if (const size_t at = r.output.find(marker); at != std::string::npos) {
+    const size_t begin = at + marker.size();
+    view.images_loaded = r.output.substr(begin, r.output.find('"', begin) - begin);
+  }
   std::istringstream lines(r.output);  // the DOM on stdout, Chromium's log (console messages among it) on stderr
   for (std::string line; std::getline(lines, line);)
     if (line.find(":CONSOLE") != std::string::npos) view.console += line + "\n";
@@ -110,8 +112,9 @@ TEST_F(Report, RefusesToReplaceAFolderThatIsNotAReport) {
 TEST_F(Report, SceneTextIsEscaped) {
   ASSERT_EQ(run_shell(std::string(MARCHCHECK_BINARY) + " scenes --export crum-torus > " + (dir_ / "t.json").string()).status, 0);
   std::string scene = read(dir_ / "t.json");
-  scene = std::regex_replace(scene, std::regex("\"description\": \"[^\"]*\""),
-                             "\"description\": \"<script>alert('x')</script> & <b>bold</b>\"");
+  const std::string key = "\"description\": \"";
+  const size_t begin = scene.find(key) + key.size();
+  scene.replace(begin, scene.find('"', begin) - begin, "<script>alert('x')</script> & <b>bold</b>");
   std::ofstream(dir_ / "evil.json") << scene;
   const fs::path out = dir_ / "report";
   const CommandRun r = run("report --quick -o " + out.string() + " " + (dir_ / "evil.json").string());
