@@ -198,12 +198,13 @@ TEST_F(Cli, BadSceneFilesExitTwoNamingTheFileThePlaceAndTheProblem) {
 
 // Mesh files a scene names: each broken file is refused with its name and the problem, status 2, nothing written.
 TEST_F(Cli, BadMeshFilesInASceneExitTwoNamingTheMeshFile) {
+  static const char kGarbage[] = "\x7f\x45\x4c\x46\x02\x01\x01\x00 not a mesh";  // an ELF header, a NUL inside
   struct Case {
     std::string file, text, message;
   };
   const Case cases[] = {
       {"truncated.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n", "truncated.off"},
-      {"garbage.obj", std::string("\x7f\x45\x4c\x46\x02\x01\x01\x00 not a mesh", 22), "garbage.obj"},
+      {"garbage.obj", std::string(kGarbage, sizeof kGarbage - 1), "garbage.obj"},
       {"nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n", "nan.obj"},
       {"index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 9\n", "index.obj"},
   };
