@@ -287,6 +287,7 @@ class Builder {
       << "body{font-family:system-ui,sans-serif;margin:1.5em auto;max-width:1400px;color:#222;padding:0 1em}\n"
       << "table{border-collapse:collapse;margin:.5em 0;font-size:.85em}td.l a{white-space:nowrap}td,th{border:1px solid #ccc;padding:2px 6px;"
          "text-align:right}th{background:#f3f3f3}td.l,th.l{text-align:left}\n"
+      << "table.stability td:nth-child(3),table.stability td:nth-child(4){min-width:16em}\n"
       << ".pass{color:#176b2c}.fail{color:#b00020;font-weight:bold}.expected{color:#8a5a00}\n"
       << "figure{display:inline-block;margin:0 .6em .6em 0;vertical-align:top}figcaption{font-size:.8em;color:#555;"
          "max-width:480px}\n"
@@ -421,7 +422,7 @@ class Builder {
   void stability_section(std::ostringstream& h) const {
     const auto stable = std::count_if(stability_.begin(), stability_.end(), [](const auto& c) { return c.stable; });
     h << "<h2 id=\"stability\">Hard cases (<code>marchcheck stability</code>): " << stable << " of " << stability_.size()
-      << " stable</h2>\n<table><tr><th class=\"l\">case</th><th class=\"l\">result</th><th class=\"l\">checks</th>"
+      << " stable</h2>\n<table class=\"stability\"><tr><th class=\"l\">case</th><th class=\"l\">result</th><th class=\"l\">checks</th>"
          "<th class=\"l\">stable when</th><th class=\"l\">numbers</th></tr>\n";
     for (const auto& c : stability_) {
       std::string numbers;
