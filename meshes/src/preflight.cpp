@@ -165,6 +165,11 @@ Expected preflight_off(const std::string& path, std::string_view content) {
       fail(path, "the file ends after " + std::to_string(v) + " of " + std::to_string(n_vertices) +
                      " vertices (truncated?)");
     check_coordinates(path, lines.number(), tokens, 0, "vertex " + std::to_string(v));
+    // OpenMesh reads a plain OFF as one stream of numbers: a fourth value on a vertex line shifts every later
+    // one (fuzz_mesh_off found it turning an index into a face size of 2^64 - 2 and a 1.6 GB allocation).
+    if (keyword == "OFF" && tokens.size() != 3)
+      fail(path, line_no(lines.number()) + "vertex " + std::to_string(v) + " has " + std::to_string(tokens.size()) +
+                     " values; a plain OFF vertex has exactly three");
   }
   for (std::uint64_t f = 0; f < n_faces; ++f) {
     if (!lines.next_tokens(tokens, false))
@@ -175,6 +180,8 @@ Expected preflight_off(const std::string& path, std::string_view content) {
     if (!parse_int(tokens[0], size)) fail(path, where + " does not start with its vertex count");
     if (size < 3) fail(path, where + " has " + std::to_string(size) + " vertices (at least 3 needed)");
     if (tokens.size() < size + 1) fail(path, where + " lists fewer than its " + std::to_string(size) + " vertices");
+    if (tokens.size() > size + 1)  // read as the next face's size otherwise (see the vertices above)
+      fail(path, where + " has values after its " + std::to_string(size) + " vertex indices (face colours are not supported)");
     for (std::uint64_t k = 1; k <= size; ++k) {
       std::int64_t index = 0;
       if (!parse_int(tokens[k], index)) fail(path, where + ": vertex index '" + std::string(tokens[k]) + "' is not an integer");
