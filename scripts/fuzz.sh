@@ -17,9 +17,10 @@ for target in "${targets[@]}"; do
   dict=()
   if [ -f "tests/fuzz/$name.dict" ]; then dict=("-dict=tests/fuzz/$name.dict"); fi
   log="build-fuzz/findings/$target.log"
-  # -timeout: one input taking 10 s is a hang; -rss_limit_mb: an input that makes a loader eat memory is a finding.
+  # -timeout: one input taking 10 s is a hang; -rss_limit_mb: an input that makes a loader eat memory is a finding;
+  # -seed: the same mutations on every CI run (longer runs by hand, without it, explore further).
   if ! "build-fuzz/tests/fuzz/$target" "build-fuzz/corpus/$name" "tests/fuzz/corpus/$name" "${dict[@]}" \
-      -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+      -max_total_time="$seconds" -seed=1 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
       -artifact_prefix="build-fuzz/findings/$target-" >"$log" 2>&1; then
     tail -n 80 "$log"
     echo "fuzz: $target FAILED; the input is in build-fuzz/findings/"

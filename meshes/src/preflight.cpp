@@ -140,6 +140,11 @@ Expected preflight_off(const std::string& path, std::string_view content) {
   if (std::find(tokens.begin(), tokens.end(), "BINARY") != tokens.end())
     fail(path, "binary OFF is not supported (OpenMesh's reader can hang on a damaged one); use ASCII OFF, PLY or STL");
   if (keyword.front() == 'n') fail(path, "n-dimensional OFF ('nOFF') is not supported");
+  // Prefixes (C, N, ST, 4) announce extra numbers per vertex that OpenMesh reads from the stream whether or not
+  // the lines hold them (fuzz_mesh_off found "NOFF" with three values a vertex allocating 2 GB): plain OFF only.
+  if (keyword != "OFF")
+    fail(path, "only plain OFF is supported, not '" + std::string(keyword.substr(0, 40)) +
+                   "' (per-vertex colours, normals or texture coordinates)");
   // OpenMesh's OFF reader takes '#' as data (even reading uninitialised values), and wants the counts on a line
   // of their own: refuse both rather than load garbage.
   if (const std::size_t hash = content.find('#'); hash != std::string_view::npos)
@@ -167,7 +172,7 @@ Expected preflight_off(const std::string& path, std::string_view content) {
     check_coordinates(path, lines.number(), tokens, 0, "vertex " + std::to_string(v));
     // OpenMesh reads a plain OFF as one stream of numbers: a fourth value on a vertex line shifts every later
     // one (fuzz_mesh_off found it turning an index into a face size of 2^64 - 2 and a 1.6 GB allocation).
-    if (keyword == "OFF" && tokens.size() != 3)
+    if (tokens.size() != 3)
       fail(path, line_no(lines.number()) + "vertex " + std::to_string(v) + " has " + std::to_string(tokens.size()) +
                      " values; a plain OFF vertex has exactly three");
   }

@@ -291,6 +291,8 @@ TEST(LoadMesh, OffDefects) {
   expect_load_error(path, "line 3: vertex 0 has 4 values; a plain OFF vertex has exactly three");
   write_bytes(path, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 -2\n");
   expect_load_error(path, "line 6: face 0 has values after its 3 vertex indices");
+  write_bytes(path, "NOFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_load_error(path, "only plain OFF is supported, not 'NOFF'");
   write_bytes(path, "OFF\rBINARY\n0 0 1\n1 0 0\n");
   expect_load_error(path, "binary OFF is not supported");
   write_bytes(path, "nOFF\n3\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
