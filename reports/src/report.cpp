@@ -84,10 +84,7 @@ std::string number(double v, int precision = 4) {
   return s.str();
 }
 
-double metric(const std::map<std::string, double>& m, const std::string& name) {
-  const auto it = m.find(name);
-  return it == m.end() ? std::nan("") : it->second;
-}
+using validation::metric_value;
 
 struct SceneReport {
   sdf::Scene scene;
@@ -157,11 +154,11 @@ class Builder {
     for (auto& scene : scenes) reports_.push_back(scene_report(std::move(scene)));
     std::vector<validation::SceneResult> results;
     for (const auto& r : reports_) results.push_back(r.result);
-    write_text_atomically((root_ / "data" / "validate.json").string(), validate_json(results));
+    write_data("validate.json", validate_json(results));
     studies();
     step("stability battery");
     stability_ = validation::run_stability();
-    write_text_atomically((root_ / "data" / "stability.json").string(), stability_json(stability_, {}));
+    write_data("stability.json", stability_json(stability_, {}));
     step("plots");
     draw_plots(root_ / "data", root_ / "plots");
     write_text_atomically((root_ / "index.html").string(), html());
@@ -201,9 +198,13 @@ class Builder {
     return r;
   }
 
+  void write_data(const std::string& file, const std::string& text) const {
+    write_text_atomically((root_ / "data" / file).string(), text);
+  }
+
   void save_sweep(const std::string& name, const validation::SweepResult& result) {
-    write_text_atomically((root_ / "data" / (name + ".json")).string(), sweep_json(result));
-    write_text_atomically((root_ / "data" / (name + ".csv")).string(), sweep_csv(result));
+    write_data(name + ".json", sweep_json(result));
+    write_data(name + ".csv", sweep_csv(result));
   }
 
   void studies() {
@@ -253,7 +254,7 @@ class Builder {
                         {"evals_per_ray", row.evals_per_ray}});
       convergence[name] = rows;
     }
-    write_text_atomically((root_ / "data" / "convergence.json").string(), convergence.dump(2) + "\n");
+    write_data("convergence.json", convergence.dump(2) + "\n");
 
     step("grazing rays");
     std::vector<double> clearances;
@@ -261,7 +262,7 @@ class Builder {
     nlohmann::ordered_json grazing = nlohmann::ordered_json::array();
     for (const auto& row : validation::grazing_study(clearances))
       grazing.push_back({{"clearance", row.clearance}, {"steps", row.steps}, {"law", row.law}});
-    write_text_atomically((root_ / "data" / "grazing.json").string(), grazing.dump(2) + "\n");
+    write_data("grazing.json", grazing.dump(2) + "\n");
   }
 
   bool as_expected(const SceneReport& r) const { return r.scene.defects.empty() == r.result.pass(); }
@@ -335,9 +336,9 @@ class Builder {
     for (const auto& r : reports_) {
       const auto& m = r.result.metrics;
       h << "<tr><td class=\"l\"><a href=\"#" << r.file << "\">" << escape(r.scene.name) << "</a></td>" << result_cell(r);
-      for (const char* k : columns) h << "<td>" << number(metric(m, k)) << "</td>";
-      h << "<td>" << number(metric(r.cost, "cost.evals_per_pixel"), 3) << "</td><td>"
-        << number(metric(r.cost, "cost.seconds"), 3) << "</td></tr>\n";
+      for (const char* k : columns) h << "<td>" << number(metric_value(m, k)) << "</td>";
+      h << "<td>" << number(metric_value(r.cost, "cost.evals_per_pixel"), 3) << "</td><td>"
+        << number(metric_value(r.cost, "cost.seconds"), 3) << "</td></tr>\n";
     }
     h << "</table>\n";
 
@@ -407,15 +408,15 @@ class Builder {
     const auto* sphere = find("sphere", top);
     const auto* relaxed = find("relaxed", top);
     if (sphere && relaxed) {
-      const double es = metric(sphere->metrics, "cost.evals_per_pixel"), er = metric(relaxed->metrics, "cost.evals_per_pixel");
+      const double es = metric_value(sphere->metrics, "cost.evals_per_pixel"), er = metric_value(relaxed->metrics, "cost.evals_per_pixel");
       s << "At max_steps " << top << ", relaxed tracing spends " << number(er, 3) << " evaluations per pixel against "
         << number(es, 3) << " for sphere tracing (" << number(100 * (1 - er / es), 3) << "% fewer), image RMS error "
-        << number(metric(relaxed->metrics, "image.rms")) << " against " << number(metric(sphere->metrics, "image.rms"))
+        << number(metric_value(relaxed->metrics, "image.rms")) << " against " << number(metric_value(sphere->metrics, "image.rms"))
         << ". ";
     }
     for (const auto& p : shadow_sweep_.points)
-      s << "Shadow bias " << escape(p.settings[0].second) << ": false shadow " << number(metric(p.metrics, "shadow.false_shadow"))
-        << ", false lit " << number(metric(p.metrics, "shadow.false_lit")) << ". ";
+      s << "Shadow bias " << escape(p.settings[0].second) << ": false shadow " << number(metric_value(p.metrics, "shadow.false_shadow"))
+        << ", false lit " << number(metric_value(p.metrics, "shadow.false_lit")) << ". ";
     return s.str();
   }
 
@@ -458,13 +459,13 @@ class Builder {
       const std::string prefix = "cost.stages.";
       if (k.rfind(prefix, 0) != 0 || k.size() < 6 || k.compare(k.size() - 6, 6, ".evals") != 0) continue;
       const std::string stage = k.substr(prefix.size(), k.size() - prefix.size() - 6);
-      const double seconds = metric(r.cost, prefix + stage + ".seconds");
+      const double seconds = metric_value(r.cost, prefix + stage + ".seconds");
       if (v == 0 && !(seconds > 0)) continue;  // a stage the scene does not declare
       h << "<tr><td class=\"l\">" << escape(stage) << "</td><td>" << number(v / r.pixels, 3) << "</td><td>"
         << number(seconds, 3) << "</td></tr>\n";
     }
-    h << "<tr><th class=\"l\">all (wall seconds)</th><th>" << number(metric(r.cost, "cost.evals_per_pixel"), 3) << "</th><th>"
-      << number(metric(r.cost, "cost.seconds"), 3) << "</th></tr></table>\n";
+    h << "<tr><th class=\"l\">all (wall seconds)</th><th>" << number(metric_value(r.cost, "cost.evals_per_pixel"), 3) << "</th><th>"
+      << number(metric_value(r.cost, "cost.seconds"), 3) << "</th></tr></table>\n";
     h << "<table><tr><th class=\"l\">check</th><th>value</th><th>limit</th><th class=\"l\">result</th>"
          "<th class=\"l\">limit from</th><th class=\"l\">what the limit stands for</th></tr>\n";
     for (const auto& c : r.result.checks)
@@ -488,7 +489,7 @@ int run_report(const ReportCommand& cmd, std::ostream& out, std::ostream& err) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<sdf::Scene> scenes;
   fs::path dir = fs::path(cmd.dir).lexically_normal();
-  if (dir.has_filename() == false) dir = dir.parent_path();
+  if (!dir.has_filename()) dir = dir.parent_path();  // "out/" names the folder "out"
   try {
     for (const auto& name : cmd.scenes.empty() ? sdf::builtin_scene_names() : cmd.scenes) {
       scenes.push_back(sdf::resolve_scene(name, validation::mesh_loader()));

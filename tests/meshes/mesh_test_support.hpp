@@ -1,9 +1,11 @@
 // Independent geometry for the mesh tests: brute-force distances and face sampling (no code shared with meshes/).
 #pragma once
 
+#include "marchcheck/meshes/checks.hpp"
 #include "marchcheck/meshes/mesh.hpp"
 
 #include <glm/geometric.hpp>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
@@ -62,6 +64,19 @@ inline double box_distance(dvec3 p, dvec3 half) {
   const dvec3 q = glm::abs(p) - half;
   const double outside = glm::length(glm::max(q, dvec3(0)));
   return std::fabs(outside + std::min(std::max(q.x, std::max(q.y, q.z)), 0.0));
+}
+
+// Every mesh check clean: closed, manifold, outward, no degenerate faces or duplicate vertices.
+inline void expect_clean(const MeshReport& r) {
+  EXPECT_TRUE(r.closed);
+  EXPECT_TRUE(r.manifold);
+  EXPECT_TRUE(r.consistently_oriented);
+  EXPECT_TRUE(r.outward);
+  EXPECT_EQ(r.boundary_edges, 0);
+  EXPECT_EQ(r.nonmanifold_edges, 0);
+  EXPECT_EQ(r.nonmanifold_vertices, 0);
+  EXPECT_EQ(r.degenerate_faces, 0);
+  EXPECT_EQ(r.duplicate_vertices, 0);
 }
 
 }  // namespace marchcheck::meshes::test

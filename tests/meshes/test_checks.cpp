@@ -1,6 +1,7 @@
 // inspect(): a clean mesh passes, and each broken variant trips exactly the check meant for it.
 #include "marchcheck/meshes/checks.hpp"
 #include "marchcheck/meshes/procedural.hpp"
+#include "mesh_test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,17 +16,7 @@ using Triangle = std::array<std::uint32_t, 3>;
 
 Mesh sphere() { return icosphere(1, 2).mesh; }
 
-void expect_clean(const MeshReport& r) {
-  EXPECT_TRUE(r.closed);
-  EXPECT_TRUE(r.manifold);
-  EXPECT_TRUE(r.consistently_oriented);
-  EXPECT_TRUE(r.outward);
-  EXPECT_EQ(r.boundary_edges, 0);
-  EXPECT_EQ(r.nonmanifold_edges, 0);
-  EXPECT_EQ(r.nonmanifold_vertices, 0);
-  EXPECT_EQ(r.degenerate_faces, 0);
-  EXPECT_EQ(r.duplicate_vertices, 0);
-}
+using test::expect_clean;
 
 TEST(Inspect, CleanMeshPasses) {
   const MeshReport r = inspect(sphere());

@@ -98,15 +98,7 @@ class Procedural : public ::testing::TestWithParam<Case> {};
 TEST_P(Procedural, IsClosedManifoldOutwardAndClean) {
   const ProceduralMesh p = GetParam().make();
   const MeshReport r = inspect(p.mesh);
-  EXPECT_TRUE(r.closed);
-  EXPECT_TRUE(r.manifold);
-  EXPECT_TRUE(r.consistently_oriented);
-  EXPECT_TRUE(r.outward);
-  EXPECT_EQ(r.boundary_edges, 0);
-  EXPECT_EQ(r.nonmanifold_edges, 0);
-  EXPECT_EQ(r.nonmanifold_vertices, 0);
-  EXPECT_EQ(r.degenerate_faces, 0);
-  EXPECT_EQ(r.duplicate_vertices, 0);
+  test::expect_clean(r);
   // The solids differ only within max_error of the surface: about area · max_error of volume (doubled for slack).
   EXPECT_NEAR(r.signed_volume, GetParam().volume, 2 * GetParam().area * p.max_error + 1e-12 * GetParam().volume);
 }

@@ -33,6 +33,7 @@ TEST(Compare, TheSameFileHasNoRegression) {
   EXPECT_EQ(c.changes.size(), 6u);  // 5 metrics (one null) and 1 check verdict
 }
 
+// Broken variant it catches: an allowance that ignores the tolerance (worse_by > allowed + 1 lets 0 -> 3 pass).
 TEST(Compare, AMetricThatGotWorseIsARegression) {
   const auto c = compare(validate_file(0, 40, 1, true), validate_file(3, 40, 1, false));
   EXPECT_TRUE(c.regression());
@@ -44,6 +45,7 @@ TEST(Compare, AMetricThatGotWorseIsARegression) {
   EXPECT_EQ(change(back, "lee-flat: hit.false_hit").verdict, Verdict::better);
 }
 
+// Broken variant it catches: image.psnr judged lower-is-better (its drop from 40 to 39 would pass).
 TEST(Compare, PsnrIsBetterHigherAndTolerancesAreRelative) {
   const auto lower = compare(validate_file(0, 40, 1, true), validate_file(0, 39, 1, true));
   EXPECT_EQ(change(lower, "lee-flat: image.psnr").verdict, Verdict::regression);

@@ -71,7 +71,7 @@ TEST_F(Report, OpensInChromiumWithEveryImageAndPlotAndNoConsoleError) {
   EXPECT_EQ(view.images_loaded, std::to_string(images) + "/" + std::to_string(images));
   EXPECT_EQ(view.console, "");
 
-  // The check can fail: a missing plot is seen by the page and logged to the console.
+  // Broken variant: a report missing one plot (grazing.png deleted); the page counts it and logs a console error.
   fs::remove(out / "plots" / "grazing.png");
   const BrowserView broken = open_in_chromium(out / "index.html", dir_);
   EXPECT_EQ(broken.images_loaded, std::to_string(images - 1) + "/" + std::to_string(images));

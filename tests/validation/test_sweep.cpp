@@ -54,6 +54,8 @@ SweepPoint point(double error, double evals, double seconds) {
   return p;
 }
 
+// Broken variant it catches: dominance without "strictly better on one axis" (a point then dominates its tie
+// and itself, and the front comes out empty).
 TEST(Sweep, TheParetoFrontLeavesOutDominatedPoints) {
   std::vector<SweepPoint> pts = {point(0.1, 10, 1), point(0.05, 20, 0.5), point(0.08, 25, 2), point(0.05, 20, 3)};
   mark_pareto(pts, "image.rms");
@@ -71,6 +73,7 @@ TEST(Sweep, TheParetoFrontLeavesOutDominatedPoints) {
   EXPECT_FALSE(missing[0].pareto_evals);
 }
 
+// Broken variants it catches: picking the most expensive point that meets the target; ignoring the target.
 TEST(Sweep, NamesTheCheapestCombinationMeetingTheTarget) {
   SweepOptions o = small_sweep();
   o.targets = {SweepTarget{"hit.undecided", 0.05}};

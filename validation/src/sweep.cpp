@@ -28,10 +28,7 @@ double median(std::vector<double> values) {
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
-double metric_or_nan(const SweepPoint& p, const std::string& name) {
-  const auto it = p.metrics.find(name);
-  return it == p.metrics.end() ? std::numeric_limits<double>::quiet_NaN() : it->second;
-}
+double metric_or_nan(const SweepPoint& p, const std::string& name) { return metric_value(p.metrics, name); }
 
 }  // namespace
 

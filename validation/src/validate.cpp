@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <random>
@@ -16,6 +17,11 @@ namespace marchcheck::validation {
 
 using glm::dvec3;
 using march::Outcome;
+
+double metric_value(const std::map<std::string, double>& metrics, const std::string& name) {
+  const auto it = metrics.find(name);
+  return it == metrics.end() ? std::numeric_limits<double>::quiet_NaN() : it->second;
+}
 
 bool SceneResult::pass() const {
   return std::all_of(checks.begin(), checks.end(), [](const Check& c) { return c.pass; });

@@ -39,6 +39,9 @@ struct SceneResult {
   bool pass() const;
 };
 
+// A metric by name, NaN when the result does not have it (a check that did not apply).
+double metric_value(const std::map<std::string, double>& metrics, const std::string& name);
+
 struct ValidateOptions {
   int rays_x = 64, rays_y = 36;  // primary rays sampled across the image
   int image_width = 320;         // width of the marched/reference image pair (0: no image comparison)
