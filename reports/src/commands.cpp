@@ -64,6 +64,11 @@ void print_checks(const validation::SceneResult& r, std::ostream& out) {
     out << "  " << std::left << std::setw(30) << c.name << std::right << std::setw(13) << std::setprecision(4)
         << std::defaultfloat << c.value << std::setw(13) << c.limit << "  " << (c.pass ? "pass  " : "FAIL  ") << "  "
         << c.limit_source << "\n";
+  if (r.not_checked.empty()) return;
+  out << "  reported, not checked (an estimate: the set's boundary turns within the normal stencil and the pixel):";
+  for (const auto& name : r.not_checked)
+    out << " " << name << " = " << std::setprecision(4) << validation::metric_value(r.metrics, name);
+  out << "\n";
 }
 
 }  // namespace

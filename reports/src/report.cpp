@@ -439,7 +439,8 @@ class Builder {
     h << "<section class=\"scene\" id=\"" << r.file << "\"><h2>" << escape(r.scene.name) << "</h2>\n<p>" << escape(r.scene.description) << "</p>\n<p>Effects: ";
     for (const auto& e : sdf::declared_effects(r.scene)) h << "<code>" << escape(e) << "</code> ";
     const auto info = sdf::derive_info(r.scene.root, r.scene.time);
-    h << "&nbsp; SDF kind: " << escape(sdf::to_string(info.kind)) << ", Lipschitz bound " << number(info.lipschitz)
+    h << "&nbsp; SDF kind: " << escape(sdf::to_string(info.kind))
+      << (info.kind == sdf::Kind::estimate ? ", stepped by f / " : ", Lipschitz bound ") << number(info.lipschitz)
       << " (" << escape(info.reason) << ")</p>\n";
     const auto figure = [&](const std::string& suffix, const std::string& caption) {
       const std::string src = "images/" + r.file + "." + suffix + ".png";

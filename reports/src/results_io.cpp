@@ -46,7 +46,7 @@ std::string validate_json(const std::vector<validation::SceneResult>& results) {
       checks.push_back({{"name", c.name}, {"value", number_or_null(c.value)}, {"limit", number_or_null(c.limit)},
                         {"pass", c.pass}, {"limit_source", c.limit_source}, {"why", c.why}});
     list.push_back({{"scene", r.scene}, {"defects", r.defects}, {"pass", r.pass()}, {"checks", checks},
-                    {"metrics", metrics_object(r.metrics)}});
+                    {"not_checked", r.not_checked}, {"metrics", metrics_object(r.metrics)}});
   }
   return nlohmann::ordered_json{{"kind", "validate"}, {"results", list}}.dump(2) + "\n";
 }

@@ -16,6 +16,7 @@ std::string_view to_string(Kind kind) {
     case Kind::exact: return "exact";
     case Kind::bound: return "bound";
     case Kind::unbounded: return "unbounded";
+    case Kind::estimate: return "estimate";
   }
   return "?";
 }
@@ -230,8 +231,8 @@ FieldInfo combine(const std::vector<FieldInfo>& cs, const std::string& what) {
     out.kind = weaker(out.kind, c.kind);
     out.lipschitz = std::max(out.lipschitz, c.lipschitz);
   }
-  out.reason = out.kind == Kind::unbounded
-                   ? what + " of an unbounded field"
+  out.reason = out.kind >= Kind::unbounded
+                   ? what + " of an " + std::string(to_string(out.kind)) + " field"
                    : what + " of exact/bound fields: a bound (exact only on parts of the surface)";
   return out;
 }
@@ -324,8 +325,9 @@ FieldInfo derive_info(const Node& node, double time) {
       return out;
     }
     case Op::mandelbulb:
-      return {Kind::unbounded, 2, sym(glm::dvec3(1.25)),
-              "escape-time distance estimate 0.5 log(r) r / dr: not a proven bound; stepped at half"};
+      return {Kind::estimate, 2, sym(glm::dvec3(1.25)),
+              "escape-time distance estimate 0.5 log(r) r / dr: no bound and no Lipschitz constant (it jumps "
+              "where the escape iteration changes); stepped at half"};
     case Op::mesh:
       return {Kind::exact, 1, node.mesh ? node.mesh->bounds() : Box3{},
               "closed, consistently oriented mesh: distance to the closest triangle, sign by angle-weighted "
@@ -392,7 +394,7 @@ FieldInfo derive_info(const Node& node, double time) {
     case Op::displace: {
       // |grad(a sin x sin y sin z)|^2 = a^2 w^2 (c1^2 s2^2 s3^2 + ...) <= a^2 w^2.
       const double a = std::abs(node.scalar("amplitude")), w = node.scalar("frequency");
-      return {Kind::unbounded, child.lipschitz + a * w, expand(child.bounds, a),
+      return {weaker(child.kind, Kind::unbounded), child.lipschitz + a * w, expand(child.bounds, a),
               "displacement adds amplitude * frequency to the Lipschitz bound"};
     }
     case Op::grid: {
@@ -400,7 +402,8 @@ FieldInfo derive_info(const Node& node, double time) {
       // most the child's L; outside the grid the added distance has slope 1. So |grad| <= sqrt(3) max(L, 1).
       // Interpolation is no bound: between samples it can exceed the distance (by up to sqrt(3)/2 of a cell
       // for an exact child).
-      return {Kind::unbounded, std::sqrt(3.0) * std::max(child.lipschitz, 1.0), grid_layout(node, child.bounds).box(),
+      return {weaker(child.kind, Kind::unbounded), std::sqrt(3.0) * std::max(child.lipschitz, 1.0),
+              grid_layout(node, child.bounds).box(),
               "trilinear interpolation of samples: each axis's slope at most the child's L, so |grad| <= sqrt(3) L"};
     }
     case Op::translate: {
@@ -422,11 +425,11 @@ FieldInfo derive_info(const Node& node, double time) {
       FieldInfo out = same_as_child(transform_box(child.bounds, a, t), "rigid motion keeps the kind");
       if (std::abs(stretch - 1) > 1e-9 || std::abs(spectral_norm(a) - 1) > 1e-9) {
         out.lipschitz = child.lipschitz * stretch;
-        if (stretch <= 1 && child.kind != Kind::unbounded) {
+        if (stretch <= 1 && child.kind <= Kind::bound) {
           out.kind = Kind::bound;
           out.reason = "affine map that does not stretch: a bound";
         } else {
-          out.kind = Kind::unbounded;
+          out.kind = weaker(child.kind, Kind::unbounded);
           out.reason = "affine map stretches distances by its inverse's spectral norm";
         }
       }
@@ -444,7 +447,7 @@ FieldInfo derive_info(const Node& node, double time) {
         out.kind = weaker(child.kind, Kind::bound);
         out.reason = "repetition of a shape inside its cell: a bound when the shape is symmetric in its cell";
       } else {
-        out.kind = Kind::unbounded;
+        out.kind = weaker(child.kind, Kind::unbounded);
         out.reason = "repetition of a shape that crosses its cell: the field jumps at cell faces";
       }
       Box3 b;
@@ -484,7 +487,7 @@ FieldInfo derive_info(const Node& node, double time) {
       const Box3& cb = child.bounds;
       const double r = std::sqrt(std::max(cb.lo.x * cb.lo.x, cb.hi.x * cb.hi.x) +
                                  std::max(cb.lo.z * cb.lo.z, cb.hi.z * cb.hi.z));
-      return {Kind::unbounded, child.lipschitz * (1 + std::abs(node.scalar("rate")) * r),
+      return {weaker(child.kind, Kind::unbounded), child.lipschitz * (1 + std::abs(node.scalar("rate")) * r),
               Box3{{-r, cb.lo.y, -r}, {r, cb.hi.y, r}},
               "twist stretches by 1 + rate * radius (within the child's bounding cylinder)"};
     }
@@ -494,7 +497,7 @@ FieldInfo derive_info(const Node& node, double time) {
       const double ax = std::abs(amp * std::sin(r[1] * time)), ay = std::abs(amp * std::sin(r[3] * time));
       const double gx = ax * std::abs(f * std::sin(r[0] * time)), gy = ay * std::abs(f * std::sin(r[2] * time));
       const glm::dvec3 shift{0, 0, node.scalar("offset_z")};
-      return {Kind::unbounded, child.lipschitz * (1 + std::max(gx, gy)),
+      return {weaker(child.kind, Kind::unbounded), child.lipschitz * (1 + std::max(gx, gy)),
               Box3{child.bounds.lo + shift - glm::dvec3(ax, ay, 0), child.bounds.hi + shift + glm::dvec3(ax, ay, 0)},
               "sinusoidal warp: Lipschitz 1 + largest warp slope"};
     }

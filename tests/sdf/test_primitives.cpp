@@ -216,10 +216,20 @@ TEST(Mandelbulb, StaysContinuousWhereTheFarFieldTakesOver) {
     }
 }
 
-// Why crum-mandelbulb fails sdf.lipschitz_over_declared: the estimator has no Lipschitz constant at all near
-// the set. Finite-difference slopes within 0.01 of its surface grow as the difference shrinks (the angle maps
-// acos and atan2 are singular on the axes of every iterate), so no declared L can hold and f / L steps are not
-// proven safe for any L.
+// An estimate stays an estimate through whatever is built on it: no operator can make a bound of it.
+TEST(Mandelbulb, IsAnEstimateAndSoIsAnythingBuiltOnIt) {
+  const Node bulb = make(Op::mandelbulb);
+  EXPECT_EQ(derive_info(bulb).kind, Kind::estimate);
+  EXPECT_EQ(derive_info(make(Op::union_, {}, {bulb, sphere(1)})).kind, Kind::estimate);
+  EXPECT_EQ(derive_info(make(Op::translate, {{"offset", {1, 0, 0}}}, {bulb})).kind, Kind::estimate);
+  EXPECT_EQ(derive_info(make(Op::displace, {{"amplitude", {0.1}}, {"frequency", {3}}}, {bulb})).kind, Kind::estimate);
+  EXPECT_EQ(derive_info(make(Op::repeat, {{"period", {1, 1, 1}}}, {bulb})).kind, Kind::estimate);
+}
+
+// Why the Mandelbulb is an estimate, not an unbounded field with a Lipschitz bound: it has no Lipschitz
+// constant at all near the set. Finite-difference slopes within 0.01 of its surface grow as the difference
+// shrinks (the angle maps acos and atan2 are singular on the axes of every iterate), so no declared L can hold
+// and f / L steps are not proven safe for any L.
 TEST(Mandelbulb, HasNoLipschitzConstantNearTheSet) {
   const Node bulb = make(Op::mandelbulb);
   const Tape tape = compile(bulb);

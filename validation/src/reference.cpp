@@ -304,6 +304,7 @@ Spans cast_exact(const Node& node, dvec3 origin, dvec3 direction, double time, c
 
 Reference::Reference(const Node& node, double time)
     : node_(node), time_(time), meshes_(mesh_references(node)), exact_(exact_supported(node, time)),
+      escape_set_(node.op == Op::mandelbulb ? std::optional<EscapeTimeSet>(node) : std::nullopt),
       tape_(sdf::compile(node, time)),
       lipschitz_(sdf::derive_info(node, time).lipschitz) {}
 
@@ -324,6 +325,7 @@ ReferenceHit Reference::first_hit(dvec3 o, dvec3 d, double t_max) const {
     }
     return out;
   }
+  if (escape_set_) return escape_set_->first_hit(o, d, t_max);
   // Numerical: steps of f / L can never jump a surface when L bounds the slope; every sign change is bisected.
   auto f = [&](double t) { return sdf::evaluate(tape_, o + d * t); };
   double t = 0, v = f(0);

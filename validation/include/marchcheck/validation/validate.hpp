@@ -35,6 +35,7 @@ struct SceneResult {
   std::vector<std::string> defects;
   std::map<std::string, double> metrics;
   std::vector<Check> checks;
+  std::vector<std::string> not_checked;  // metrics with a default limit this scene's kind is not held to
   std::optional<ImagePair> images;  // with ValidateOptions::keep_images
   bool pass() const;
 };
