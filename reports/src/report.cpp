@@ -473,6 +473,10 @@ class Builder {
       h << "<tr><td class=\"l\">" << escape(c.name) << "</td><td>" << number(c.value) << "</td><td>" << number(c.limit)
         << "</td><td class=\"l " << (c.pass ? "pass\">pass" : "fail\">FAIL") << "</td><td class=\"l\">"
         << escape(c.limit_source) << "</td><td class=\"l\">" << escape(c.why) << "</td></tr>\n";
+    for (const auto& name : r.result.not_checked)
+      h << "<tr><td class=\"l\">" << escape(name) << "</td><td>" << number(validation::metric_value(r.result.metrics, name))
+        << "</td><td>-</td><td class=\"l\">reported</td><td class=\"l\">not checked</td><td class=\"l\">an estimate: "
+           "the set's boundary turns within the normal stencil and the pixel; a scene limit checks it</td></tr>\n";
     h << "</table></section>\n";
   }
 

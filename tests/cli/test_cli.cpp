@@ -76,6 +76,17 @@ TEST_F(Cli, ValidateExitsZeroOnPassOneOnAFailedCheckTwoOnBadInput) {
   EXPECT_EQ(run("validate no-such-scene").status, 2);
 }
 
+// What an estimate is not held to is still printed, with its value, and written to the JSON.
+TEST_F(Cli, ValidateShowsTheMetricsAnEstimateIsNotCheckedOn) {
+  const CommandRun bulb = run("validate crum-mandelbulb --json " + path("bulb.json"));
+  EXPECT_EQ(bulb.status, 0) << bulb.output;
+  EXPECT_NE(bulb.output.find("reported, not checked"), std::string::npos) << bulb.output;
+  EXPECT_NE(bulb.output.find("normal.angle_p99_deg = "), std::string::npos) << bulb.output;
+  std::ifstream json(path("bulb.json"));
+  const std::string text((std::istreambuf_iterator<char>(json)), {});
+  EXPECT_NE(text.find("\"not_checked\": [\n        \"normal.angle_p99_deg\""), std::string::npos) << text.substr(0, 400);
+}
+
 TEST_F(Cli, StabilityExitsZeroAllStableOneOnTheNaiveVariantsTwoOnAnUnwritablePath) {
   const CommandRun ok = run("stability --json " + path("stability.json"));
   EXPECT_EQ(ok.status, 0) << ok.output;
