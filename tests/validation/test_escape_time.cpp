@@ -96,3 +96,41 @@ TEST(EscapeTimeSet, FinerSamplingFindsThinnerFilamentsFirst) {
 
 }  // namespace
 }  // namespace marchcheck::validation
+
+namespace marchcheck::validation {
+namespace {
+
+// A Mandelbulb moved, turned and scaled is the same set seen through the motion: the same hit distance along
+// the same ray taken into its frame, and the normal turned back out.
+TEST(EscapeTimeSet, StandsInForAMovedTurnedAndScaledMandelbulb) {
+  const double factor = 1.5;
+  const glm::dvec3 offset(0.3, -0.2, 0.1), axis = glm::normalize(glm::dvec3(1, 2, 3));
+  const double angle = 40 * std::numbers::pi / 180;
+  const sdf::Node placed = sdf::make(
+      sdf::Op::translate, {{"offset", {offset.x, offset.y, offset.z}}},
+      {sdf::make(sdf::Op::rotate, {{"axis", {axis.x, axis.y, axis.z}}, {"angle_deg", {40}}},
+                 {sdf::make(sdf::Op::scale, {{"factor", {factor}}}, {bulb()})})});
+  const Reference reference(placed, 0);
+  const EscapeTimeSet set(bulb());
+  const glm::dmat3 turn = sdf::rotation_matrix(axis, angle);
+  std::mt19937 rng(4);
+  std::normal_distribution<double> g;
+  int hits = 0;
+  for (int k = 0; k < 100; ++k) {
+    const glm::dvec3 eye = offset + glm::dvec3(3, 1, 2);
+    const glm::dvec3 d = glm::normalize(offset + glm::dvec3(g(rng), g(rng), g(rng)) * 0.4 - eye);
+    const ReferenceHit world = reference.first_hit(eye, d, 10);
+    // In the set's frame the ray is shorter by the scale: its t is the world's t over the factor.
+    const glm::dvec3 o = glm::transpose(turn) * (eye - offset) / factor, dir = glm::transpose(turn) * d;
+    const ReferenceHit local = set.first_hit(o, dir, 10 / factor);
+    ASSERT_EQ(world.hit, local.hit);
+    if (!world.hit) continue;
+    ++hits;
+    EXPECT_NEAR(world.t, local.t * factor, 1e-9);
+    EXPECT_GT(glm::dot(world.normal, turn * local.normal), 1 - 1e-12);
+  }
+  EXPECT_GT(hits, 50);
+}
+
+}  // namespace
+}  // namespace marchcheck::validation

@@ -221,6 +221,12 @@ bool is_rigid(const glm::dmat3& a) {
   return true;
 }
 
+// The motion of a rotate, affine or animate node.
+sdf::ModelTransform motion(const Node& n, double time) {
+  if (n.op != Op::rotate) return sdf::model_transform(n, time);
+  return {sdf::rotation_matrix(n.vec3("axis"), n.scalar("angle_deg") * std::numbers::pi / 180), {}};
+}
+
 Spans cast(const Node& n, dvec3 o, dvec3 d, double time, const MeshReferences& meshes) {
   switch (n.op) {
     case Op::sphere: return sphere_spans(n.scalar("radius"), o, d);
@@ -249,9 +255,7 @@ Spans cast(const Node& n, dvec3 o, dvec3 d, double time, const MeshReferences& m
     case Op::rotate:
     case Op::affine:
     case Op::animate: {
-      const sdf::ModelTransform m = n.op == Op::rotate
-                                        ? sdf::ModelTransform{sdf::rotation_matrix(n.vec3("axis"), n.scalar("angle_deg") * std::numbers::pi / 180), {}}
-                                        : sdf::model_transform(n, time);
+      const sdf::ModelTransform m = motion(n, time);
       const glm::dmat3 inv = glm::inverse(m.a);
       Spans out = cast(n.children[0], inv * (o - m.t), inv * d, time, meshes);
       for (auto& s : out) {
@@ -261,6 +265,47 @@ Spans cast(const Node& n, dvec3 o, dvec3 d, double time, const MeshReferences& m
       return out;
     }
     default: return {};
+  }
+}
+
+// The Mandelbulb under a chain of rigid motions and uniform scales, or nullptr.
+const Node* placed_mandelbulb(const Node& n, double time) {
+  switch (n.op) {
+    case Op::mandelbulb: return &n;
+    case Op::affine:
+    case Op::animate:
+      if (!is_rigid(sdf::model_transform(n, time).a)) return nullptr;
+      [[fallthrough]];
+    case Op::translate:
+    case Op::rotate:
+    case Op::scale: return placed_mandelbulb(n.children[0], time);
+    default: return nullptr;
+  }
+}
+
+// The ray taken into the set's frame through the chain placed_mandelbulb accepted; t is the same in every frame.
+ReferenceHit placed_first_hit(const Node& n, const EscapeTimeSet& set, dvec3 o, dvec3 d, double t_max, double time) {
+  switch (n.op) {
+    case Op::translate: return placed_first_hit(n.children[0], set, o - n.vec3("offset"), d, t_max, time);
+    case Op::scale: {
+      const double s = n.scalar("factor");
+      return placed_first_hit(n.children[0], set, o / s, d / s, t_max, time);
+    }
+    case Op::rotate:
+    case Op::affine:
+    case Op::animate: {
+      const sdf::ModelTransform m = motion(n, time);
+      const glm::dmat3 inv = glm::transpose(m.a);  // rigid
+      ReferenceHit h = placed_first_hit(n.children[0], set, inv * (o - m.t), inv * d, t_max, time);
+      h.normal = m.a * h.normal;
+      return h;
+    }
+    default: {
+      const double len = glm::length(d);  // the set samples along a unit direction
+      ReferenceHit h = set.first_hit(o, d / len, t_max * len);
+      h.t /= len;
+      return h;
+    }
   }
 }
 
@@ -304,7 +349,8 @@ Spans cast_exact(const Node& node, dvec3 origin, dvec3 direction, double time, c
 
 Reference::Reference(const Node& node, double time)
     : node_(node), time_(time), meshes_(mesh_references(node)), exact_(exact_supported(node, time)),
-      escape_set_(node.op == Op::mandelbulb ? std::optional<EscapeTimeSet>(node) : std::nullopt),
+      escape_set_(placed_mandelbulb(node, time) ? std::optional<EscapeTimeSet>(*placed_mandelbulb(node, time))
+                                                 : std::nullopt),
       tape_(sdf::compile(node, time)),
       lipschitz_(sdf::derive_info(node, time).lipschitz) {}
 
@@ -325,7 +371,7 @@ ReferenceHit Reference::first_hit(dvec3 o, dvec3 d, double t_max) const {
     }
     return out;
   }
-  if (escape_set_) return escape_set_->first_hit(o, d, t_max);
+  if (escape_set_) return placed_first_hit(node_, *escape_set_, o, d, t_max, time_);
   // Numerical: steps of f / L can never jump a surface when L bounds the slope; every sign change is bisected.
   auto f = [&](double t) { return sdf::evaluate(tape_, o + d * t); };
   double t = 0, v = f(0);

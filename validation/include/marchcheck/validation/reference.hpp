@@ -75,7 +75,8 @@ class EscapeTimeSet {
 
 class Reference {
  public:
-  // Exact casting when the tree allows it; a Mandelbulb by its escape-time set; else the numerical root finder
+  // Exact casting when the tree allows it; a Mandelbulb (moved rigidly, scaled uniformly) by its escape-time
+  // set; else the numerical root finder
   // on the compiled field in double with steps f / L (L the declared bound) and bisection of every sign change
   // to 1e-9.
   Reference(const sdf::Node& node, double time);
