@@ -111,6 +111,29 @@ TEST(BrokenVariants, EachRemainingCheckCanFail) {
          s.march.normal_eps = 1e-4;
        },
        "normal.angle_p99_deg"},
+      // A classic repetition bug: the derivation keeps the child's L, but the field jumps at the cell faces.
+      {"a sphere off-centre in a repetition cell it crosses", "crum-smooth",
+       [](sdf::Scene& s) {
+         s.root = sdf::make(sdf::Op::repeat, {{"period", {1, 0, 1}}},
+                            {sdf::make(sdf::Op::translate, {{"offset", {0.3, 0, 0}}}, {sdf::sphere(0.35)})});
+       },
+       "sdf.lipschitz_over_declared"},
+      // Hits 3 thresholds off an exact surface: closer than a false hit (2 thresholds plus the grazing band),
+      // farther than the threshold allows.
+      {"the torus marched 3 hit thresholds (absolute) too thick", "crum-torus",
+       [](sdf::Scene& s) {
+         s.intended = s.root;
+         s.root = sdf::make(sdf::Op::torus, {{"major", {1}}, {"minor", {0.3 + 3 * s.march.hit_eps}}}, {}, s.root.material);
+       },
+       "hit.surface_dist_over_eps"},
+      // Off by a tenth of the hit threshold: hits look fine, but the values exceed the distance to the intended
+      // torus by up to that offset.
+      {"the torus marched 1e-5 off its place", "crum-torus",
+       [](sdf::Scene& s) {
+         s.intended = s.root;
+         s.root = sdf::make(sdf::Op::translate, {{"offset", {1e-5, 0, 0}}}, {s.root});
+       },
+       "sdf.overestimate_max"},
       // The estimate falls to 1/40 of the distance near the set: at crum's threshold some hits stop more than a
       // pixel footprint off it.
       {"the Mandelbulb at crum's hit threshold of 1e-4", "crum-mandelbulb",

@@ -68,6 +68,32 @@ bool is_exact_outside(const sdf::Node& n, double time) {
   }
 }
 
+// The nearest reference surface found from p so far (an upper bound on p's distance to it).
+struct NearestSurface {
+  double distance = INFINITY;
+  dvec3 toward{0};  // from p to the nearest surface point found
+  bool inside = false;  // p is inside the reference solid
+};
+
+// Probes the directions where the nearest point is likely, then the 26 of the cube's neighbours.
+void probe_nearest(const Reference& ref, dvec3 p, std::initializer_list<dvec3> likely, NearestSurface& near) {
+  auto probe = [&](dvec3 dir) {
+    if (!(glm::length(dir) > 0)) return;
+    dir = glm::normalize(dir);
+    const ReferenceHit h = ref.first_hit(p, dir, std::isfinite(near.distance) ? near.distance : 1e9);
+    near.inside = near.inside || h.inside;
+    if (h.hit && h.t < near.distance) {
+      near.distance = h.t;
+      near.toward = dir;
+    }
+  };
+  for (const dvec3 dir : likely) probe(dir);
+  for (int a = -1; a <= 1; ++a)
+    for (int b = -1; b <= 1; ++b)
+      for (int c = -1; c <= 1; ++c)
+        if (a != 0 || b != 0 || c != 0) probe(dvec3(a, b, c));
+}
+
 template <class T>
 struct Runner {
   const sdf::Scene& scene;
@@ -154,25 +180,13 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
       if (rec.outcome == Outcome::hit) {
         const dvec3 p_m = ray.origin + ray.direction * static_cast<double>(rec.t);
         const dvec3 n_m = run.normal(p_m, static_cast<double>(rec.t));
-        // An upper bound on the hit point's distance to the true surface: the nearest reference surface along
-        // 26 directions, the ray's own and the reference normal's reverse (exact where the surface is flat).
-        double upper = rh.hit ? std::abs(rh.t - t_m) : INFINITY;
-        dvec3 toward = t_m < rh.t ? dn : -dn;  // from the hit point to the nearest surface point found
-        bool inside = false;
-        auto probe = [&](dvec3 dir) {
-          const ReferenceHit h = ref.first_hit(p_m, glm::normalize(dir), std::isfinite(upper) ? upper : 1e9);
-          inside = inside || h.inside;
-          if (h.hit && h.t < upper) {
-            upper = h.t;
-            toward = glm::normalize(dir);
-          }
-        };
-        if (rh.hit) probe(-rh.normal);
-        if (glm::length(n_m) > 0) probe(-n_m);
-        for (int a = -1; a <= 1; ++a)
-          for (int b = -1; b <= 1; ++b)
-            for (int c = -1; c <= 1; ++c)
-              if (a != 0 || b != 0 || c != 0) probe(dvec3(a, b, c));
+        // An upper bound on the hit point's distance to the true surface: the ray's own, then the probes
+        // (the reference normal's reverse and the marched one's: exact where the surface is flat).
+        NearestSurface near{rh.hit ? std::abs(rh.t - t_m) : INFINITY, t_m < rh.t ? dn : -dn};
+        probe_nearest(ref, p_m, {rh.hit ? -rh.normal : dvec3(0), -n_m}, near);
+        double upper = near.distance;
+        const dvec3 toward = near.toward;
+        const bool inside = near.inside;
         // Float rounding of the hit point itself is allowed on top of the threshold.
         const double rounding = 4 * std::numeric_limits<T>::epsilon() * (glm::length(ray.origin) + t_m);
         const double allowed = eps_m * len + rounding + ref.t_error_bound();
@@ -285,24 +299,26 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
     for (int rep = 0; rep < 8; ++rep) {
       const dvec3 p = p0 + glm::normalize(dvec3(g(rng), g(rng), g(rng))) * (scale * u(rng));
       const dvec3 dir = glm::normalize(dvec3(g(rng), g(rng), g(rng)));
-      const double h = 1e-5 * scale;
-      lipschitz = std::max(lipschitz, std::abs(sdf::evaluate(tape, p + dir * h) - sdf::evaluate(tape, p)) / h);
+      // Any two points bound L from below: close pairs see steep slopes, wider ones see jumps (a shape crossing
+      // its repetition cell) that a close pair almost never straddles.
+      for (const double h : {1e-5 * scale, 1e-2 * scale, 0.3 * scale})
+        lipschitz = std::max(lipschitz, std::abs(sdf::evaluate(tape, p + dir * h) - sdf::evaluate(tape, p)) / h);
       if (!(ref.exact() || estimate) || rep > 1) continue;
-      double upper = INFINITY;
-      bool inside = false;
-      for (int a = -1; a <= 1; ++a)
-        for (int b = -1; b <= 1; ++b)
-          for (int c = -1; c <= 1; ++c) {
-            if (a == 0 && b == 0 && c == 0) continue;
-            const ReferenceHit hit = ref.first_hit(p, glm::normalize(dvec3(a, b, c)), 1e9);
-            inside = inside || hit.inside;
-            if (hit.hit) upper = std::min(upper, hit.t);
-          }
-      if (inside || !std::isfinite(upper)) continue;  // the upper bound needs a point outside
+      // Down the field's own gradient lies the nearest point of a field close to the reference's.
+      const double f = sdf::evaluate(tape, p), hg = 1e-6 * scale;
+      dvec3 grad;
+      for (int i = 0; i < 3; ++i) {
+        dvec3 e(0);
+        e[i] = hg;
+        grad[i] = sdf::evaluate(tape, p + e) - sdf::evaluate(tape, p - e);
+      }
+      NearestSurface near;
+      probe_nearest(ref, p, {f > 0 ? -grad : grad}, near);
+      if (near.inside || !std::isfinite(near.distance)) continue;  // the upper bound needs a point outside
       if (estimate)
-        estimate_ratio = std::max(estimate_ratio, sdf::evaluate(tape, p) / upper);
+        estimate_ratio = std::max(estimate_ratio, f / near.distance);
       else
-        overestimate = std::max(overestimate, std::abs(sdf::evaluate(tape, p)) / declared - upper);
+        overestimate = std::max(overestimate, std::abs(f) / declared - near.distance);
     }
   }
   m["sdf.lipschitz_measured"] = lipschitz;
