@@ -134,3 +134,37 @@ TEST(EscapeTimeSet, StandsInForAMovedTurnedAndScaledMandelbulb) {
 
 }  // namespace
 }  // namespace marchcheck::validation
+
+namespace marchcheck::validation {
+namespace {
+
+// A Mandelbulb on a ground plane: each part cast by its own reference, the nearer first hit wins, and a start
+// inside either part is inside the union.
+TEST(EscapeTimeSet, JudgesAMandelbulbBesideExactShapes) {
+  const sdf::Node ground = sdf::plane({0, 1, 0}, 1.0);  // y = -1
+  const Reference both(sdf::make(sdf::Op::union_, {}, {bulb(), ground}), 0);
+  const Reference plane_only(ground, 0);
+  const EscapeTimeSet set(bulb());
+  std::mt19937 rng(6);
+  std::normal_distribution<double> g;
+  int on_bulb = 0, on_ground = 0;
+  for (int k = 0; k < 100; ++k) {
+    const dvec3 d = glm::normalize(dvec3(g(rng), g(rng) - 1, g(rng)) * 0.6 - kEye);
+    const ReferenceHit union_hit = both.first_hit(kEye, d, 100), a = set.first_hit(kEye, d, 100),
+                       b = plane_only.first_hit(kEye, d, 100);
+    const bool bulb_first = a.hit && (!b.hit || a.t < b.t);
+    ASSERT_EQ(union_hit.hit, a.hit || b.hit);
+    if (!union_hit.hit) continue;
+    // The bulb's part takes the direction through its own normalisation: equal up to rounding.
+    EXPECT_NEAR(union_hit.t, bulb_first ? a.t : b.t, 1e-9);
+    EXPECT_GT(glm::dot(union_hit.normal, bulb_first ? a.normal : b.normal), 1 - 1e-9);
+    (bulb_first ? on_bulb : on_ground)++;
+  }
+  EXPECT_GT(on_bulb, 10);
+  EXPECT_GT(on_ground, 10);
+  EXPECT_TRUE(both.first_hit({0, -2, 0}, {0, 1, 0}, 10).inside);  // under the ground
+  EXPECT_TRUE(both.first_hit({0, 0, 0}, {0, 1, 0}, 10).inside);   // in the bulb
+}
+
+}  // namespace
+}  // namespace marchcheck::validation

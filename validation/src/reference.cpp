@@ -311,6 +311,22 @@ ReferenceHit placed_first_hit(const Node& n, const EscapeTimeSet& set, dvec3 o, 
 
 }  // namespace
 
+namespace {
+
+// A union the exact caster cannot take whole but each of whose parts one reference can cast (a Mandelbulb
+// beside exact shapes): the parts, whose nearest first hit is the union's.
+std::vector<Reference> referenced_union_parts(const Node& n, double time) {
+  if (n.op != Op::union_ || exact_supported(n, time)) return {};
+  std::vector<Reference> parts;
+  for (const auto& c : n.children) {
+    if (!exact_supported(c, time) && !placed_mandelbulb(c, time)) return {};
+    parts.emplace_back(c, time);
+  }
+  return parts;
+}
+
+}  // namespace
+
 bool exact_supported(const Node& n, double time) {
   switch (n.op) {
     case Op::sphere:
@@ -351,6 +367,7 @@ Reference::Reference(const Node& node, double time)
     : node_(node), time_(time), meshes_(mesh_references(node)), exact_(exact_supported(node, time)),
       escape_set_(placed_mandelbulb(node, time) ? std::optional<EscapeTimeSet>(*placed_mandelbulb(node, time))
                                                  : std::nullopt),
+      parts_(referenced_union_parts(node, time)),
       tape_(sdf::compile(node, time)),
       lipschitz_(sdf::derive_info(node, time).lipschitz) {}
 
@@ -372,6 +389,15 @@ ReferenceHit Reference::first_hit(dvec3 o, dvec3 d, double t_max) const {
     return out;
   }
   if (escape_set_) return placed_first_hit(node_, *escape_set_, o, d, t_max, time_);
+  if (!parts_.empty()) {
+    ReferenceHit nearest;
+    for (const auto& part : parts_) {
+      const ReferenceHit h = part.first_hit(o, d, t_max);
+      if (h.inside) return h;
+      if (h.hit && (!nearest.hit || h.t < nearest.t)) nearest = h;
+    }
+    return nearest;
+  }
   // Numerical: steps of f / L can never jump a surface when L bounds the slope; every sign change is bisected.
   auto f = [&](double t) { return sdf::evaluate(tape_, o + d * t); };
   double t = 0, v = f(0);

@@ -76,7 +76,7 @@ class EscapeTimeSet {
 class Reference {
  public:
   // Exact casting when the tree allows it; a Mandelbulb (moved rigidly, scaled uniformly) by its escape-time
-  // set; else the numerical root finder
+  // set, also as a part of a union whose other parts cast exactly; else the numerical root finder
   // on the compiled field in double with steps f / L (L the declared bound) and bisection of every sign change
   // to 1e-9.
   Reference(const sdf::Node& node, double time);
@@ -91,6 +91,7 @@ class Reference {
   MeshReferences meshes_;
   bool exact_;
   std::optional<EscapeTimeSet> escape_set_;
+  std::vector<Reference> parts_;
   sdf::Tape tape_;
   double lipschitz_;
 };
