@@ -22,19 +22,22 @@ template <class T>
 struct Lanes {
   alignas(64) T ox[kMaxPacket], oy[kMaxPacket], oz[kMaxPacket], dx[kMaxPacket], dy[kMaxPacket], dz[kMaxPacket];
   alignas(64) T t[kMaxPacket], max_dist[kMaxPacket], min_abs[kMaxPacket], t_at_min[kMaxPacket], last_abs[kMaxPacket];
-  alignas(64) T x[kMaxPacket], y[kMaxPacket], z[kMaxPacket], f[kMaxPacket];
   alignas(64) Int<T> steps[kMaxPacket], code[kMaxPacket], id[kMaxPacket];
+  // Scratch of one step (never compacted): the points and the field's values there.
+  alignas(64) T x[kMaxPacket], y[kMaxPacket], z[kMaxPacket], f[kMaxPacket];
 };
 
 constexpr int kRunning = -1;  // else the Outcome
 
-// SphereTrace::feed for every lane at once, for omega = 1; the same expressions in the same order.
+// SphereTrace::feed for every lane at once, for omega = 1; the same expressions in the same order. Returns the
+// number of lanes still running.
 template <class T>
-void feed_lanes(Lanes<T>& l, int count, T scale, T eps_at_0, T eps_slope, int max_steps) {
+int feed_lanes(Lanes<T>& l, int count, T scale, T eps_at_0, T eps_slope, int max_steps) {
   using I = Int<T>;
   const T largest = std::numeric_limits<T>::max();
   const I running = kRunning, miss_steps = I(Outcome::miss_steps), miss_far = I(Outcome::miss_far),
           hit = I(Outcome::hit), inside = I(Outcome::inside), invalid = I(Outcome::invalid), limit = max_steps;
+  I still = 0;
   for (int i = 0; i < count; ++i) {
     const T v = l.f[i], t = l.t[i], a = std::abs(v);
     const I steps = l.steps[i] + 1;
@@ -53,31 +56,43 @@ void feed_lanes(Lanes<T>& l, int count, T scale, T eps_at_0, T eps_slope, int ma
     l.t_at_min[i] = better ? t : l.t_at_min[i];
     l.min_abs[i] = better ? a : l.min_abs[i];
     l.t[i] = live && code == moved ? next : t;
-    l.code[i] = live ? code : l.code[i];
+    code = live ? code : l.code[i];
+    l.code[i] = code;
+    still += code == running;
   }
+  return static_cast<int>(still);
 }
 
 // Writes the records of the lanes that ended and packs the running ones to the front; returns their count.
+// Branch-free index lists first, then one plain loop per array: a lane's fate is not predictable.
 template <class T>
 int compact(Lanes<T>& l, int count, RayRecord<T>* records) {
-  int kept = 0;
+  int keep[kMaxPacket], ended[kMaxPacket];
+  int kept = 0, done = 0;
   for (int i = 0; i < count; ++i) {
-    if (l.code[i] != kRunning) {
-      RayRecord<T>& r = records[l.id[i]];
-      r.outcome = static_cast<Outcome>(l.code[i]);
-      r.t = l.t[i];
-      r.steps = r.evals = static_cast<int>(l.steps[i]);
-      r.min_abs_f = l.min_abs[i];
-      r.t_at_min = l.t_at_min[i];
-      r.last_abs_f = l.last_abs[i];
-      continue;
-    }
-    if (kept != i) {
-      for (T* a : {l.ox, l.oy, l.oz, l.dx, l.dy, l.dz, l.t, l.max_dist, l.min_abs, l.t_at_min, l.last_abs}) a[kept] = a[i];
-      for (Int<T>* a : {l.steps, l.code, l.id}) a[kept] = a[i];
-    }
-    ++kept;
+    const bool running = l.code[i] == kRunning;
+    keep[kept] = i;
+    ended[done] = i;
+    kept += running;
+    done += !running;
   }
+  for (int e = 0; e < done; ++e) {
+    const int i = ended[e];
+    RayRecord<T>& r = records[l.id[i]];
+    r.outcome = static_cast<Outcome>(l.code[i]);
+    r.t = l.t[i];
+    r.steps = r.evals = static_cast<int>(l.steps[i]);
+    r.min_abs_f = l.min_abs[i];
+    r.t_at_min = l.t_at_min[i];
+    r.last_abs_f = l.last_abs[i];
+  }
+  // In place: keep[k] >= k and rises, so each entry is read before it is overwritten.
+  int first = 0;  // the lanes before the first ended one stay where they are
+  while (first < kept && keep[first] == first) ++first;
+  for (T* a : {l.ox, l.oy, l.oz, l.dx, l.dy, l.dz, l.t, l.max_dist, l.min_abs, l.t_at_min, l.last_abs})
+    for (int k = first; k < kept; ++k) a[k] = a[keep[k]];
+  for (Int<T>* a : {l.steps, l.code, l.id})
+    for (int k = first; k < kept; ++k) a[k] = a[keep[k]];
   return kept;
 }
 
@@ -94,14 +109,15 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
     l.dx[i] = ray.direction.x;
     l.dy[i] = ray.direction.y;
     l.dz[i] = ray.direction.z;
-    l.t[i] = 0;
     l.max_dist[i] = static_cast<T>(ray.max_dist);
-    l.min_abs[i] = l.last_abs[i] = std::numeric_limits<T>::infinity();
-    l.t_at_min[i] = 0;
-    l.steps[i] = 0;
-    l.code[i] = kRunning;
     l.id[i] = ids[i];
   }
+  std::fill_n(l.t, n, T(0));
+  std::fill_n(l.min_abs, n, std::numeric_limits<T>::infinity());
+  std::fill_n(l.last_abs, n, std::numeric_limits<T>::infinity());
+  std::fill_n(l.t_at_min, n, T(0));
+  std::fill_n(l.steps, n, Int<T>(0));
+  std::fill_n(l.code, n, Int<T>(kRunning));
   const T scale = SphereTrace<T>(s, c, T(0), T(0)).scale();
   const T eps_at_0 = s.eps_mode == EpsMode::absolute ? T(s.hit_eps)
                      : s.eps_mode == EpsMode::pixel  ? T(c.footprint_at_0)
@@ -119,10 +135,45 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
     }
     for (int b = 0; b < count; b += sdf::kBatch)
       sdf::evaluate_batch(tape, l.x + b, l.y + b, l.z + b, l.f + b, std::min(sdf::kBatch, count - b));
-    feed_lanes(l, count, scale, eps_at_0, eps_slope, s.max_steps);
-    int running = 0;
-    for (int i = 0; i < count; ++i) running += l.code[i] == kRunning;
+    const int running = feed_lanes(l, count, scale, eps_at_0, eps_slope, s.max_steps);
     if (running == 0 || running < count - count / 4) count = compact(l, count, records);
+  }
+}
+
+// Marches rays[ids[i]] into records[ids[i]], i < n <= kMaxPacket, for the relaxed marcher: each ray's own
+// SphereTrace, fed from shared batches.
+template <class T>
+void march_relaxed(const sdf::Tape& tape, const PacketRay<T>* rays, int* ids, int n, RayRecord<T>* records,
+                   const MarchSettings& s, const MarchContext& c) {
+  SphereTrace<T> traces[kMaxPacket];
+  for (int i = 0; i < n; ++i) traces[ids[i]] = SphereTrace<T>(s, c, T(0), static_cast<T>(rays[ids[i]].max_dist));
+  int count = n;
+  while (count > 0) {
+    int still = 0;  // compacts ids in place: still <= the index read
+    for (int b = 0; b < count; b += sdf::kBatch) {
+      const int k = std::min(sdf::kBatch, count - b);
+      alignas(64) T x[sdf::kBatch], y[sdf::kBatch], z[sdf::kBatch], f[sdf::kBatch];
+      for (int j = 0; j < k; ++j) {
+        const PacketRay<T>& ray = rays[ids[b + j]];
+        const T t = traces[ids[b + j]].t();
+        // As march(): origin + direction * t.
+        const glm::vec<3, T> p = ray.origin + ray.direction * t;
+        x[j] = p.x;
+        y[j] = p.y;
+        z[j] = p.z;
+      }
+      sdf::evaluate_batch(tape, x, y, z, f, k);
+      for (int j = 0; j < k; ++j) {
+        const int i = ids[b + j];
+        traces[i].feed(f[j]);
+        if (traces[i].done()) {
+          records[i] = traces[i].record();
+        } else {
+          ids[still++] = i;
+        }
+      }
+    }
+    count = still;
   }
 }
 
@@ -132,7 +183,6 @@ template <class T>
 void march_packet(const sdf::Tape& tape, const PacketRay<T>* rays, RayRecord<T>* records, int n,
                   const MarchSettings& s, const MarchContext& c) {
   const auto one_point = [&tape](glm::vec<3, T> p) { return sdf::evaluate(tape, p); };
-  SphereTrace<T> traces[kMaxPacket];
   int active[kMaxPacket];
   // settings_invalid reads max_dist only as max_dist > 0: decided once here rather than per ray.
   MarchSettings unit = s;
@@ -148,46 +198,16 @@ void march_packet(const sdf::Tape& tape, const PacketRay<T>* rays, RayRecord<T>*
         MarchSettings own = s;
         own.max_dist = ray.max_dist;
         records[base + i] = march<T>(one_point, ray.origin, ray.direction, own, c);  // rare: one point at a time
-        continue;
-      }
-      traces[i] = SphereTrace<T>(s, c, T(0), static_cast<T>(ray.max_dist));
-      if (traces[i].done()) {
-        records[base + i] = traces[i].record();
+      } else if (!(0 < s.max_steps)) {
+        records[base + i] = SphereTrace<T>(s, c, T(0), static_cast<T>(ray.max_dist)).record();  // done at once
       } else {
         active[count++] = i;
       }
     }
-    if (s.marcher != Marcher::relaxed) {
+    if (s.marcher == Marcher::relaxed) {
+      march_relaxed(tape, rays + base, active, count, records + base, s, c);
+    } else {
       march_lanes(tape, rays + base, active, count, records + base, s, c);
-      continue;
-    }
-    // Relaxed: each ray's own SphereTrace, fed from shared batches.
-    while (count > 0) {
-      int still = 0;  // compacts active in place: still <= the index read
-      for (int b = 0; b < count; b += sdf::kBatch) {
-        const int k = std::min(sdf::kBatch, count - b);
-        alignas(64) T x[sdf::kBatch], y[sdf::kBatch], z[sdf::kBatch], f[sdf::kBatch];
-        for (int j = 0; j < k; ++j) {
-          const PacketRay<T>& ray = rays[base + active[b + j]];
-          const T t = traces[active[b + j]].t();
-          // As march(): origin + direction * t.
-          const glm::vec<3, T> p = ray.origin + ray.direction * t;
-          x[j] = p.x;
-          y[j] = p.y;
-          z[j] = p.z;
-        }
-        sdf::evaluate_batch(tape, x, y, z, f, k);
-        for (int j = 0; j < k; ++j) {
-          const int i = active[b + j];
-          traces[i].feed(f[j]);
-          if (traces[i].done()) {
-            records[base + i] = traces[i].record();
-          } else {
-            active[still++] = i;
-          }
-        }
-      }
-      count = still;
     }
   }
 }
