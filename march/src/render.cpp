@@ -120,6 +120,7 @@ struct Context {
   std::unique_ptr<MeshOccluder> meshes;  // only when the scene has triangle meshes
   const SurfaceOracle* oracle;           // reference renders
   std::vector<glm::dvec3> light_positions;  // at the scene's time, computed once rather than per pixel
+  ShadePrecision shade;
 };
 
 template <class T>
@@ -157,42 +158,43 @@ glm::dvec3 material_color(const Context& ctx, int material, glm::dvec3 p, glm::d
 }
 
 // Direct lighting of a surface point: diffuse variants, toon bands, specular; visibility per light from the
-// shadow stage (1 where the light casts no shadow).
-glm::dvec3 direct_light(const Context& ctx, glm::dvec3 p, glm::dvec3 n, glm::dvec3 eye, glm::dvec3 albedo, int material,
-                        const double* visibility, double ao) {
+// shadow stage (1 where the light casts no shadow). S: the arithmetic, float for images (ShadePrecision).
+template <class S>
+glm::vec<3, S> direct_light(const Context& ctx, glm::vec<3, S> p, glm::vec<3, S> n, glm::vec<3, S> eye,
+                            glm::vec<3, S> albedo, int material, const double* visibility, double ao) {
+  using V = glm::vec<3, S>;
   const auto& fx = ctx.scene.effects;
   const sdf::Material* m = material >= 0 ? &ctx.scene.materials[static_cast<size_t>(material)] : nullptr;
   // An eye on the surface point (a miss read as a hit at the ray origin) has no direction: face the normal.
-  const glm::dvec3 to_eye = glm::length(eye - p) > 0 ? glm::normalize(eye - p) : n;
-  glm::dvec3 color = albedo * fx.ambient * ao;
+  const V to_eye = glm::length(eye - p) > 0 ? glm::normalize(eye - p) : n;
+  V color = albedo * S(fx.ambient) * S(ao);
   for (size_t i = 0; i < ctx.scene.lights.size(); ++i) {
     const auto& light = ctx.scene.lights[i];
-    const glm::dvec3 l = light.type == sdf::LightType::point ? glm::normalize(ctx.light_positions[i] - p)
-                                                             : -glm::normalize(light.direction);
-    const double cosine = glm::dot(n, l);
-    double diffuse = fx.diffuse == sdf::Diffuse::unclamped ? cosine
-                     : fx.diffuse == sdf::Diffuse::floor  ? std::clamp(cosine, fx.diffuse_floor, 1.0)
-                                                          : std::clamp(cosine, 0.0, 1.0);
-    double specular = 0;
+    const V l = light.type == sdf::LightType::point ? glm::normalize(V(ctx.light_positions[i]) - p)
+                                                    : -glm::normalize(V(light.direction));
+    const S cosine = glm::dot(n, l);
+    S diffuse = fx.diffuse == sdf::Diffuse::unclamped ? cosine
+                : fx.diffuse == sdf::Diffuse::floor  ? std::clamp(cosine, S(fx.diffuse_floor), S(1))
+                                                     : std::clamp(cosine, S(0), S(1));
+    S specular = 0;
     if (m && m->specular != sdf::SpecularModel::none) {
-      const double base = m->specular == sdf::SpecularModel::phong
-                              ? glm::dot(glm::reflect(-l, n), to_eye)
-                              : glm::dot(n, glm::normalize(l + to_eye));
-      specular = m->specular_strength * std::pow(std::clamp(base, 0.0, 1.0), m->shininess);
+      const S base = m->specular == sdf::SpecularModel::phong ? glm::dot(glm::reflect(-l, n), to_eye)
+                                                              : glm::dot(n, glm::normalize(l + to_eye));
+      specular = S(m->specular_strength) * std::pow(std::clamp(base, S(0), S(1)), S(m->shininess));
     }
     if (fx.shading == sdf::Shading::toon) {
-      const double bands = fx.toon_bands;
-      auto quantise = [&](double x) {
-        const double band = std::min(std::floor(std::clamp(x, 0.0, 1.0) * bands), bands - 1);
-        return glm::mix(0.1, 1.0, band / (bands - 1));
+      const S bands = S(fx.toon_bands);
+      auto quantise = [&](S x) {
+        const S band = std::min(std::floor(std::clamp(x, S(0), S(1)) * bands), bands - 1);
+        return glm::mix(S(0.1), S(1), band / (bands - 1));
       };
       diffuse = quantise(diffuse);
-      specular = m && m->specular != sdf::SpecularModel::none ? std::min(quantise(specular), diffuse) : 0;
+      specular = m && m->specular != sdf::SpecularModel::none ? std::min(quantise(specular), diffuse) : S(0);
     }
-    const double v = visibility[i];
-    color += light.color * (albedo * diffuse * glm::mix(light.darkening, 1.0, v) + specular * v);
+    const S v = S(visibility[i]);
+    color += V(light.color) * (albedo * diffuse * glm::mix(S(light.darkening), S(1), v) + specular * v);
   }
-  if (fx.shading == sdf::Shading::toon && glm::dot(to_eye, n) < fx.silhouette) color = glm::dvec3(0);
+  if (fx.shading == sdf::Shading::toon && glm::dot(to_eye, n) < S(fx.silhouette)) color = V(0);
   return color;
 }
 
@@ -229,7 +231,7 @@ struct Tracer {
     cost.evals += shadows(p, n.n, r.t, visibility);
     const glm::dvec3 pd(p), nd(n.n);
     const glm::dvec3 albedo = material_color(ctx, material, pd, nd);
-    glm::dvec3 color = direct_light(ctx, pd, nd, glm::dvec3(origin), albedo, material, visibility, 1.0);
+    glm::dvec3 color = direct_light<double>(ctx, pd, nd, glm::dvec3(origin), albedo, material, visibility, 1.0);
     return bounce(color, p, n.n, dir, material, depth, r.t);
   }
 
@@ -526,33 +528,43 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
 
   const auto start = Clock::now();
   double bounce_seconds = 0;
-  each([&](PixelState& p, int x, int y) {
-    glm::dvec3 color = fx.background;
-    const glm::dvec3 hit = glm::dvec3(p.origin) + glm::dvec3(p.direction) * static_cast<double>(p.record.t);
+  // One pixel's colour in arithmetic S (the type of `zero`); secondary rays shade in double.
+  auto shade = [&](PixelState& p, auto zero) {
+    using S = decltype(zero);
+    using VS = glm::vec<3, S>;
+    VS color(fx.background);
+    const glm::dvec3 at = glm::dvec3(p.origin) + glm::dvec3(p.direction) * static_cast<double>(p.record.t);
+    const VS hit(at);
     if (p.hit || p.on_mesh) {
-      const glm::dvec3 n(p.normal);
-      const glm::dvec3 eye = fx.eye_is_ray_direction && !ctx.oracle ? glm::dvec3(p.direction) : glm::dvec3(p.origin);
-      const glm::dvec3 albedo = pipe.materials || p.on_mesh ? material_color(ctx, p.material, hit, n) : glm::dvec3(0.8);
-      color = ctx.scene.lights.empty() && !pipe.materials ? glm::dvec3(0)
-                                                          : direct_light(ctx, hit, n, eye, albedo, p.material, p.visibility, p.ao);
+      const VS n(p.normal);
+      const VS eye = fx.eye_is_ray_direction && !ctx.oracle ? VS(p.direction) : VS(p.origin);
+      const VS albedo =
+          pipe.materials || p.on_mesh ? VS(material_color(ctx, p.material, at, glm::dvec3(n))) : VS(S(0.8));
+      color = ctx.scene.lights.empty() && !pipe.materials
+                  ? VS(0)
+                  : direct_light<S>(ctx, hit, n, eye, albedo, p.material, p.visibility, p.ao);
       if (fx.ao == sdf::AmbientOcclusion::steps && !ctx.oracle)
-        color -= glm::dvec3(static_cast<double>(p.record.steps) * p.record.steps * fx.ao_steps_scale);
+        color -= VS(S(static_cast<double>(p.record.steps) * p.record.steps * fx.ao_steps_scale));
       if (pipe.reflection || pipe.refraction) {
         const auto bounce_start = Clock::now();
         const std::uint64_t reflection = counters.stages[kReflection].evals;
         const std::uint64_t refraction = counters.stages[kRefraction].evals;
-        color = tracer.bounce(color, V(hit), p.normal, p.direction, p.material, 0, p.record.t);
+        color = VS(tracer.bounce(glm::dvec3(color), V(at), p.normal, p.direction, p.material, 0, p.record.t));
         p.stage_evals[kReflection] += counters.stages[kReflection].evals - reflection;
         p.stage_evals[kRefraction] += counters.stages[kRefraction].evals - refraction;
         p.evals += p.stage_evals[kReflection] + p.stage_evals[kRefraction];
         bounce_seconds += since(bounce_start);
       }
-      color = glm::max(color, glm::dvec3(0));
-      if (fx.fog > 0) color = glm::mix(fx.fog_color, color, std::exp(-fx.fog * static_cast<double>(p.record.t)));
+      color = glm::max(color, VS(0));
+      if (fx.fog > 0) color = glm::mix(VS(fx.fog_color), color, S(std::exp(-fx.fog * static_cast<double>(p.record.t))));
     } else if (fx.glow > 0 && !ctx.oracle) {
-      const double g = std::clamp(1 - static_cast<double>(p.record.min_abs_f) / fx.glow_width, 0.0, 1.0);
-      color += fx.glow_color * (fx.glow * g * g);
+      const S g = std::clamp(S(1) - static_cast<S>(p.record.min_abs_f) / S(fx.glow_width), S(0), S(1));
+      color += VS(fx.glow_color) * (S(fx.glow) * g * g);
     }
+    return color;
+  };
+  each([&](PixelState& p, int x, int y) {
+    const glm::vec3 color = ctx.shade == ShadePrecision::dual ? glm::vec3(shade(p, 0.0)) : shade(p, 0.0f);
     float* c = out.color.at(x, y);
     for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(color[i]);
     counters.steps_max = std::max(counters.steps_max, p.record.steps);
@@ -575,12 +587,13 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
 
 }  // namespace
 
-RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const SurfaceOracle* oracle, Images images) {
+RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const SurfaceOracle* oracle, Images images,
+                    ShadePrecision shade) {
   const auto start = Clock::now();
   const int w = scene.width, h = scene.height;
   if (scene.lights.size() > kMaxLights) throw std::invalid_argument("at most 16 lights");
   Context ctx{scene,  sdf::compile(scene.root, scene.time), Camera(scene.camera, w, h), {}, plan(scene, aovs, oracle),
-              nullptr, oracle, {}};
+              nullptr, oracle, {}, shade};
   ctx.march.lipschitz = sdf::derive_info(scene.root, scene.time).lipschitz;
   for (const auto& light : scene.lights) ctx.light_positions.push_back(light.position_at(scene.time));
   ctx.march.footprint_at_0 = ctx.camera.footprint_at_0();
