@@ -29,34 +29,36 @@ struct Lanes {
 
 constexpr int kRunning = -1;  // else the Outcome
 
-// SphereTrace::feed for every lane at once, for omega = 1; the same expressions in the same order. Returns the
-// number of lanes still running.
-template <class T>
-int feed_lanes(Lanes<T>& l, int count, T scale, T eps_at_0, T eps_slope, int max_steps) {
+// SphereTrace::feed for every lane at once, for omega = 1; the same expressions in the same order. All lanes of a
+// packet start together, so a running lane's step count is the packet's: `step` (this evaluation's number).
+// What changes only when a lane ends (its code, steps, last |f|) is stored only then. Returns the number of lanes
+// still running.
+template <bool First, class T>
+int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slope, int max_steps) {
   using I = Int<T>;
   const T largest = std::numeric_limits<T>::max();
-  const I running = kRunning, miss_steps = I(Outcome::miss_steps), miss_far = I(Outcome::miss_far),
-          hit = I(Outcome::hit), inside = I(Outcome::inside), invalid = I(Outcome::invalid), limit = max_steps;
+  const I running = kRunning, miss_far = I(Outcome::miss_far), hit = I(Outcome::hit), inside = I(Outcome::inside),
+          invalid = I(Outcome::invalid), steps = step;
+  const I out_of_steps = step >= max_steps ? I(Outcome::miss_steps) : running;
   I still = 0;
   for (int i = 0; i < count; ++i) {
     const T v = l.f[i], t = l.t[i], a = std::abs(v);
-    const I steps = l.steps[i] + 1;
     const T eps = eps_at_0 + eps_slope * t;  // hit_threshold: each mode is a + b t with an exact zero term
     const T next = t + v * scale;
-    I code = steps >= limit ? miss_steps : running;
-    code = next > l.max_dist[i] ? miss_far : code;
+    I code = next > l.max_dist[i] ? miss_far : out_of_steps;
     const I moved = code;  // t moves on unless the step below ends the ray where it is
     code = v < eps ? hit : code;
-    code = steps == 1 && v < -eps ? inside : code;
+    if constexpr (First) code = v < -eps ? inside : code;
     code = a <= largest ? code : invalid;  // not finite
-    const bool live = l.code[i] == running;
+    const I old = l.code[i];
+    const bool live = old == running;
     const bool better = live && a < l.min_abs[i];
-    l.steps[i] = live ? steps : l.steps[i];
-    l.last_abs[i] = live ? a : l.last_abs[i];
     l.t_at_min[i] = better ? t : l.t_at_min[i];
     l.min_abs[i] = better ? a : l.min_abs[i];
     l.t[i] = live && code == moved ? next : t;
-    code = live ? code : l.code[i];
+    code = live ? code : old;
+    l.steps[i] = code != old ? steps : l.steps[i];  // the lane ends here
+    l.last_abs[i] = code != old ? a : l.last_abs[i];
     l.code[i] = code;
     still += code == running;
   }
@@ -89,10 +91,11 @@ int compact(Lanes<T>& l, int count, RayRecord<T>* records) {
   // In place: keep[k] >= k and rises, so each entry is read before it is overwritten.
   int first = 0;  // the lanes before the first ended one stay where they are
   while (first < kept && keep[first] == first) ++first;
-  for (T* a : {l.ox, l.oy, l.oz, l.dx, l.dy, l.dz, l.t, l.max_dist, l.min_abs, l.t_at_min, l.last_abs})
+  // A running lane's steps and last |f| are not kept yet (feed_lanes), and its code is kRunning.
+  for (T* a : {l.ox, l.oy, l.oz, l.dx, l.dy, l.dz, l.t, l.max_dist, l.min_abs, l.t_at_min})
     for (int k = first; k < kept; ++k) a[k] = a[keep[k]];
-  for (Int<T>* a : {l.steps, l.code, l.id})
-    for (int k = first; k < kept; ++k) a[k] = a[keep[k]];
+  for (int k = first; k < kept; ++k) l.id[k] = l.id[keep[k]];
+  std::fill_n(l.code + first, kept - first, Int<T>(kRunning));
   return kept;
 }
 
@@ -116,7 +119,6 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
   std::fill_n(l.min_abs, n, std::numeric_limits<T>::infinity());
   std::fill_n(l.last_abs, n, std::numeric_limits<T>::infinity());
   std::fill_n(l.t_at_min, n, T(0));
-  std::fill_n(l.steps, n, Int<T>(0));
   std::fill_n(l.code, n, Int<T>(kRunning));
   const T scale = SphereTrace<T>(s, c, T(0), T(0)).scale();
   const T eps_at_0 = s.eps_mode == EpsMode::absolute ? T(s.hit_eps)
@@ -126,7 +128,7 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
                       : s.eps_mode == EpsMode::pixel  ? T(c.footprint_slope)
                                                       : T(0);
   int count = n;
-  while (count > 0) {
+  for (int step = 1; count > 0; ++step) {
     for (int i = 0; i < count; ++i) {
       // As march(): origin + direction * t.
       l.x[i] = l.ox[i] + l.dx[i] * l.t[i];
@@ -135,7 +137,8 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
     }
     for (int b = 0; b < count; b += sdf::kBatch)
       sdf::evaluate_batch(tape, l.x + b, l.y + b, l.z + b, l.f + b, std::min(sdf::kBatch, count - b));
-    const int running = feed_lanes(l, count, scale, eps_at_0, eps_slope, s.max_steps);
+    const int running = step == 1 ? feed_lanes<true>(l, count, step, scale, eps_at_0, eps_slope, s.max_steps)
+                                  : feed_lanes<false>(l, count, step, scale, eps_at_0, eps_slope, s.max_steps);
     if (running == 0 || running < count - count / 4) count = compact(l, count, records);
   }
 }
@@ -148,7 +151,7 @@ void march_relaxed(const sdf::Tape& tape, const PacketRay<T>* rays, int* ids, in
   SphereTrace<T> traces[kMaxPacket];
   for (int i = 0; i < n; ++i) traces[ids[i]] = SphereTrace<T>(s, c, T(0), static_cast<T>(rays[ids[i]].max_dist));
   int count = n;
-  while (count > 0) {
+  for (int step = 1; count > 0; ++step) {
     int still = 0;  // compacts ids in place: still <= the index read
     for (int b = 0; b < count; b += sdf::kBatch) {
       const int k = std::min(sdf::kBatch, count - b);
