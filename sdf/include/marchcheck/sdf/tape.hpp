@@ -379,7 +379,8 @@ inline constexpr int kBatch = 64;
 
 // out[i] = evaluate(tape, (x[i], y[i], z[i])) for i < n <= kBatch, bit for bit, with each instruction run as one
 // loop over the batch (structure of arrays, vectorised by the compiler). Operators not worth vectorising run
-// lane by lane through the one-point code. T: float or double.
+// lane by lane through the one-point code. T: float or double. out is written as the tape runs: it must not
+// overlap x, y or z.
 template <class T>
 void evaluate_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int n);
 
