@@ -310,9 +310,6 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     RayRecord<T> record;
     V normal{0};
     int material = -1;
-    std::uint64_t evals = 0;
-    std::array<std::uint64_t, kStageCount> stage_evals{};
-    double visibility[kMaxLights];
     double ao = 1;
     bool hit = false;
     bool on_mesh = false;  // the nearest surface is a triangle mesh, not the field
@@ -320,6 +317,18 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     std::uint64_t batched_evals = 0;  // spent by a packet pass, charged by the stage that follows it
   };
   std::array<PixelState, kTile * kTile> px;
+  // Beside the pixels rather than in them, so that the tile's state stays in the first-level cache: the
+  // evaluations per pixel (all stages, then each), kept only for the images that show them, and the visibility of
+  // each light, lights.size() entries per pixel.
+  struct PixelCost {
+    std::uint64_t evals;
+    std::array<std::uint64_t, kStageCount> stages;
+  };
+  std::array<PixelCost, kTile * kTile> cost;
+  const bool per_pixel_cost = !out.evals.pixels.empty() || !out.stage_evals.pixels.empty();
+  if (per_pixel_cost) cost.fill({});
+  const size_t lights = ctx.scene.lights.size();
+  double visibility_store[kTile * kTile * kMaxLights];
   const int w = x1 - x0, tile_pixels = w * (y1 - y0);
   auto each = [&](auto&& fn) {
     for (int y = y0; y < y1; ++y)
@@ -331,8 +340,11 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     std::uint64_t evals = 0;
     each([&](PixelState& p, int x, int y) {
       const auto e = static_cast<std::uint64_t>(fn(p, x, y));
-      p.evals += e;
-      p.stage_evals[which] += e;
+      if (per_pixel_cost) {
+        auto& c = cost[static_cast<size_t>(&p - px.data())];
+        c.evals += e;
+        c.stages[which] += e;
+      }
       evals += e;
     });
     counters.stages[which].evals += evals;
@@ -346,6 +358,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     counters.stages[which].seconds += since(start);
   };
   auto index = [&](const PixelState& p) { return static_cast<int>(&p - px.data()); };
+  auto visibility = [&](const PixelState& p) { return visibility_store + static_cast<size_t>(index(p)) * lights; };
 
   if (ctx.meshes)
     stage(kMesh, [&](PixelState& p, int x, int y) {
@@ -400,7 +413,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
         p.normal = V(p.mesh.normal);
         p.material = p.mesh.material;
       }
-      std::fill_n(p.visibility, ctx.scene.lights.size(), 1.0);  // only the lights' entries are read
+      std::fill_n(visibility(p), lights, 1.0);
       return 0;
     }
     p.on_mesh = p.mesh.hit && p.record.outcome != Outcome::hit;
@@ -415,7 +428,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
       p.normal = V(p.mesh.normal);
       p.material = p.mesh.material;
     }
-    std::fill_n(p.visibility, ctx.scene.lights.size(), 1.0);  // only the lights' entries are read
+    std::fill_n(visibility(p), lights, 1.0);
     return p.record.evals;
   });
   const bool batched_normals = s.normal == NormalMethod::central;  // the others stay one point at a time
@@ -498,7 +511,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
         march_packet(ctx.tape, rays, records, count, s, ctx.march);
         for (int i = 0; i < count; ++i) {
           auto& p = px[static_cast<size_t>(which[i])];
-          p.visibility[li] = hard_visibility(records[i], starts[i], light);
+          visibility(p)[li] = hard_visibility(records[i], starts[i], light);
           p.batched_evals += static_cast<std::uint64_t>(records[i].evals);
         }
       }
@@ -507,7 +520,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
   } else if (pipe.shadows) {
     stage(kShadow, [&](PixelState& p, int, int) {
       if (!p.hit && !p.on_mesh) return std::uint64_t{0};
-      return tracer.shadows(p.origin + p.direction * p.record.t, p.normal, p.record.t, p.visibility);
+      return tracer.shadows(p.origin + p.direction * p.record.t, p.normal, p.record.t, visibility(p));
     });
   }
   if (pipe.ao_samples)
@@ -542,7 +555,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
           pipe.materials || p.on_mesh ? VS(material_color(ctx, p.material, at, glm::dvec3(n))) : VS(S(0.8));
       color = ctx.scene.lights.empty() && !pipe.materials
                   ? VS(0)
-                  : direct_light<S>(ctx, hit, n, eye, albedo, p.material, p.visibility, p.ao);
+                  : direct_light<S>(ctx, hit, n, eye, albedo, p.material, visibility(p), p.ao);
       if (fx.ao == sdf::AmbientOcclusion::steps && !ctx.oracle)
         color -= VS(S(static_cast<double>(p.record.steps) * p.record.steps * fx.ao_steps_scale));
       if (pipe.reflection || pipe.refraction) {
@@ -550,9 +563,12 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
         const std::uint64_t reflection = counters.stages[kReflection].evals;
         const std::uint64_t refraction = counters.stages[kRefraction].evals;
         color = VS(tracer.bounce(glm::dvec3(color), V(at), p.normal, p.direction, p.material, 0, p.record.t));
-        p.stage_evals[kReflection] += counters.stages[kReflection].evals - reflection;
-        p.stage_evals[kRefraction] += counters.stages[kRefraction].evals - refraction;
-        p.evals += p.stage_evals[kReflection] + p.stage_evals[kRefraction];
+        if (per_pixel_cost) {
+          auto& c = cost[static_cast<size_t>(index(p))];
+          c.stages[kReflection] += counters.stages[kReflection].evals - reflection;
+          c.stages[kRefraction] += counters.stages[kRefraction].evals - refraction;
+          c.evals += c.stages[kReflection] + c.stages[kRefraction];
+        }
         bounce_seconds += since(bounce_start);
       }
       color = glm::max(color, VS(0));
@@ -575,9 +591,10 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
       for (int i = 0; i < 3; ++i) n[i] = static_cast<float>(p.normal[i]);
     }
     if (!out.steps.pixels.empty()) *out.steps.at(x, y) = static_cast<float>(p.record.steps);
-    if (!out.evals.pixels.empty()) *out.evals.at(x, y) = static_cast<float>(p.evals);
+    const PixelCost& pc = cost[static_cast<size_t>(index(p))];
+    if (!out.evals.pixels.empty()) *out.evals.at(x, y) = static_cast<float>(pc.evals);
     if (!out.stage_evals.pixels.empty())
-      for (int i = 0; i < kStageCount; ++i) out.stage_evals.at(x, y)[i] = static_cast<float>(p.stage_evals[static_cast<size_t>(i)]);
+      for (int i = 0; i < kStageCount; ++i) out.stage_evals.at(x, y)[i] = static_cast<float>(pc.stages[static_cast<size_t>(i)]);
     if (!out.id.pixels.empty()) *out.id.at(x, y) = static_cast<float>(p.material);
     if (!out.outcome.pixels.empty()) *out.outcome.at(x, y) = static_cast<float>(p.record.outcome);
   });
