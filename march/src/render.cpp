@@ -166,7 +166,7 @@ glm::vec<3, S> direct_light(const Context& ctx, glm::vec<3, S> p, glm::vec<3, S>
   const auto& fx = ctx.scene.effects;
   const sdf::Material* m = material >= 0 ? &ctx.scene.materials[static_cast<size_t>(material)] : nullptr;
   // An eye on the surface point (a miss read as a hit at the ray origin) has no direction: face the normal.
-  const V to_eye = glm::length(eye - p) > 0 ? glm::normalize(eye - p) : n;
+  const V to_eye = glm::dot(eye - p, eye - p) > 0 ? glm::normalize(eye - p) : n;  // glm::length(eye - p) > 0
   V color = albedo * S(fx.ambient) * S(ao);
   for (size_t i = 0; i < ctx.scene.lights.size(); ++i) {
     const auto& light = ctx.scene.lights[i];
