@@ -412,9 +412,15 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) fn(px[static_cast<size_t>((y - y0) * w + (x - x0))], x, y);
   };
+  // Stage times as laps: each stage's end is the next one's start (one clock reading per pass, not two).
+  auto mark = Clock::now();
+  auto lap = [&](Stage which) {
+    const auto now = Clock::now();
+    counters.stages[which].seconds += std::chrono::duration<double>(now - mark).count();
+    mark = now;
+  };
   // Runs one stage over the tile, timing it and charging the evaluations it reports.
   auto stage = [&](Stage which, auto&& fn) {
-    const auto start = Clock::now();
     std::uint64_t evals = 0;
     each([&](PixelState& p, int x, int y) {
       const auto e = static_cast<std::uint64_t>(fn(p, x, y));
@@ -426,14 +432,13 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
       evals += e;
     });
     counters.stages[which].evals += evals;
-    counters.stages[which].seconds += since(start);
+    lap(which);
   };
   // A pass over the whole tile at once (packets of rays through the batched tape), timed as part of its stage;
   // it leaves each pixel's evaluations in batched_evals for the stage's per-pixel pass to charge.
   auto packet_pass = [&](Stage which, auto&& fn) {
-    const auto start = Clock::now();
     fn();
-    counters.stages[which].seconds += since(start);
+    lap(which);
   };
   auto index = [&](const PixelState& p) { return static_cast<int>(&p - px.data()); };
   auto visibility = [&](const PixelState& p) { return visibility_store + static_cast<size_t>(index(p)) * lights; };
@@ -617,7 +622,6 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
       return fx.ao_samples;
     });
 
-  const auto start = Clock::now();
   double bounce_seconds = 0;
   // The tile's colours in arithmetic S (the type of `zero`): its surface pixels lit together, then each pixel
   // finished and written. Secondary rays shade in double.
@@ -701,7 +705,8 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     shade(0.0f);
   }
   // Secondary rays run inside the shading loop and book their own time: take it out of shading's.
-  counters.stages[kShade].seconds += since(start) - bounce_seconds;
+  lap(kShade);
+  counters.stages[kShade].seconds -= bounce_seconds;
 }
 
 }  // namespace
