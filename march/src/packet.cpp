@@ -220,27 +220,31 @@ template <class T>
 void central_normals_packet(const sdf::Tape& tape, const glm::vec<3, T>* points, const T* eps,
                             NormalResult<T>* normals, int n) {
   using V = glm::vec<3, T>;
-  // A batch holds the six probes of kBatch / 6 points.
-  constexpr int kPoints = sdf::kBatch / 6;
-  for (int base = 0; base < n; base += kPoints) {
-    const int m = std::min(kPoints, n - base);
-    alignas(64) T x[sdf::kBatch], y[sdf::kBatch], z[sdf::kBatch], f[sdf::kBatch];
+  for (int base = 0; base < n; base += sdf::kBatch) {
+    const int m = std::min(sdf::kBatch, n - base);
+    alignas(64) T px[sdf::kBatch], py[sdf::kBatch], pz[sdf::kBatch], e[sdf::kBatch];
+    alignas(64) T x[sdf::kBatch], y[sdf::kBatch], z[sdf::kBatch], f[6][sdf::kBatch];
     for (int i = 0; i < m; ++i) {
-      const V p = points[base + i];
-      const T e = eps[base + i];
-      // The probes of estimate_normal, in its order: +x, -x, +y, -y, +z, -z.
-      const V probes[6] = {p + V(e, 0, 0), p - V(e, 0, 0), p + V(0, e, 0), p - V(0, e, 0), p + V(0, 0, e), p - V(0, 0, e)};
-      for (int j = 0; j < 6; ++j) {
-        x[6 * i + j] = probes[j].x;
-        y[6 * i + j] = probes[j].y;
-        z[6 * i + j] = probes[j].z;
+      px[i] = points[base + i].x;
+      py[i] = points[base + i].y;
+      pz[i] = points[base + i].z;
+      e[i] = eps[base + i];
+    }
+    // The probes of estimate_normal, one batch per probe in its order: p + V(e, 0, 0), p - V(e, 0, 0), p + V(0, e,
+    // 0), ... as glm computes them, zeros included (p.y + 0 turns -0 into +0).
+    for (int j = 0; j < 6; ++j) {
+      const int axis = j / 2;
+      const bool minus = j % 2;
+      for (int i = 0; i < m; ++i) {
+        const T ex = axis == 0 ? e[i] : T(0), ey = axis == 1 ? e[i] : T(0), ez = axis == 2 ? e[i] : T(0);
+        x[i] = minus ? px[i] - ex : px[i] + ex;
+        y[i] = minus ? py[i] - ey : py[i] + ey;
+        z[i] = minus ? pz[i] - ez : pz[i] + ez;
       }
+      sdf::evaluate_batch(tape, x, y, z, f[j], m);
     }
-    sdf::evaluate_batch(tape, x, y, z, f, 6 * m);
-    for (int i = 0; i < m; ++i) {
-      const T* g = f + 6 * i;
-      normals[base + i] = {detail::unit_or_zero(V(g[0] - g[1], g[2] - g[3], g[4] - g[5])), 6};
-    }
+    for (int i = 0; i < m; ++i)
+      normals[base + i] = {detail::unit_or_zero(V(f[0][i] - f[1][i], f[2][i] - f[3][i], f[4][i] - f[5][i])), 6};
   }
 }
 
