@@ -51,15 +51,21 @@ int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slop
     code = v < eps ? hit : code;
     if constexpr (First) code = v < -eps ? inside : code;
     code = a <= largest ? code : invalid;  // not finite
-    const I old = l.code[i];
+    // Every array is stored whole, a blend of its old and new values: GCC turns `a[i] = c ? x : a[i]` into a
+    // masked store skipped when no lane changes, a branch as unpredictable as a lane's end.
+    const I old = l.code[i], old_steps = l.steps[i];
+    const T old_min = l.min_abs[i], old_t_at_min = l.t_at_min[i], old_last = l.last_abs[i];
     const bool live = old == running;
-    const bool better = live && a < l.min_abs[i];
-    l.t_at_min[i] = better ? t : l.t_at_min[i];
-    l.min_abs[i] = better ? a : l.min_abs[i];
-    l.t[i] = live && code == moved ? next : t;
+    const bool better = live && a < old_min;
     code = live ? code : old;
-    l.steps[i] = code != old ? steps : l.steps[i];  // the lane ends here
-    l.last_abs[i] = code != old ? a : l.last_abs[i];
+    const bool ends = code != old;
+    T t_at_min = better ? t : old_t_at_min, min_abs = better ? a : old_min, last = ends ? a : old_last;
+    I steps_now = ends ? steps : old_steps;
+    l.t_at_min[i] = t_at_min;
+    l.min_abs[i] = min_abs;
+    l.t[i] = live && code == moved ? next : t;
+    l.steps[i] = steps_now;
+    l.last_abs[i] = last;
     l.code[i] = code;
     still += code == running;
   }
