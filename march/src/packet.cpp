@@ -32,8 +32,8 @@ constexpr int kRunning = -1;  // else the Outcome
 
 // SphereTrace::feed for every lane at once, for omega = 1; the same expressions in the same order. All lanes of a
 // packet start together, so a running lane's step count is the packet's: `step` (this evaluation's number).
-// What changes only when a lane ends (its code, steps, last |f|) is stored only then. Returns the number of lanes
-// still running.
+// A lane's code, steps and last |f| change only when it ends (so compaction need not move them for running
+// lanes). Returns the number of lanes still running.
 template <bool First, class T>
 int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slope, int max_steps) {
   using I = Int<T>;
@@ -59,8 +59,10 @@ int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slop
     const bool better = live && a < old_min;
     code = live ? code : old;
     const bool ends = code != old;
-    T t_at_min = better ? t : old_t_at_min, min_abs = better ? a : old_min, last = ends ? a : old_last;
-    I steps_now = ends ? steps : old_steps;
+    // The new values first, then the stores: written as `l.steps[i] = ends ? steps : old_steps`, GCC still finds
+    // the masked store.
+    const T t_at_min = better ? t : old_t_at_min, min_abs = better ? a : old_min, last = ends ? a : old_last;
+    const I steps_now = ends ? steps : old_steps;
     l.t_at_min[i] = t_at_min;
     l.min_abs[i] = min_abs;
     l.t[i] = live && code == moved ? next : t;
