@@ -32,6 +32,15 @@ std::string base_of(const std::string& path) {
 
 }  // namespace
 
+std::vector<unsigned char> to_8bit(const Image& image, bool srgb) {
+  std::vector<unsigned char> bytes(image.pixels.size());
+  for (size_t i = 0; i < bytes.size(); ++i) {
+    const float v = srgb ? to_srgb(image.pixels[i]) : std::clamp(image.pixels[i], 0.0f, 1.0f);
+    bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
+  }
+  return bytes;
+}
+
 void write_image(const Image& image, const std::string& path, bool srgb) {
   const bool as_float = is_float_format(path);
   write_atomically(path, [&](const std::string& tmp) {
@@ -44,12 +53,7 @@ void write_image(const Image& image, const std::string& path, bool srgb) {
       if (as_float) {
         ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
       } else {
-        std::vector<unsigned char> bytes(image.pixels.size());
-        for (size_t i = 0; i < bytes.size(); ++i) {
-          const float v = srgb ? to_srgb(image.pixels[i]) : std::clamp(image.pixels[i], 0.0f, 1.0f);
-          bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
-        }
-        ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+        ok = out->write_image(OIIO::TypeDesc::UINT8, to_8bit(image, srgb).data());
       }
       ok = out->close() && ok;
     }

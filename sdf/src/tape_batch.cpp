@@ -18,22 +18,23 @@ struct Stacks {
 
 // One instruction for each lane through the one-point code: the lane's top two values and top point are copied
 // to small stacks, stepped, and copied back (an instruction moves each stack by at most one entry).
-template <class T, bool WithMaterial>
-void step_lanes(const Tape& tape, const Instr& in, Stacks<T, WithMaterial>& s, int& vt, int& pt, int n) {
+template <class T, bool WithMaterial, class Values, class Points>
+void step_lanes(const Tape& tape, const Instr& in, Stacks<T, WithMaterial>& s, const Values& v, const Points& p,
+                int& vt, int& pt, int n) {
   const int below = vt >= 1 ? 1 : vt;  // index of the lane's old top in the small stack
   int lvt = below, lpt = 0;
   for (int i = 0; i < n; ++i) {
     T values[3];
     int materials[3];
     glm::vec<3, T> points[2];
-    for (int j = 0; j <= below; ++j) values[j] = s.v[vt - below + j][i];
+    for (int j = 0; j <= below; ++j) values[j] = v(vt - below + j)[i];
     if constexpr (WithMaterial)
       for (int j = 0; j <= below; ++j) materials[j] = s.m[vt - below + j][i];
-    points[0] = {s.x[pt][i], s.y[pt][i], s.z[pt][i]};
+    points[0] = {p(pt, 0)[i], p(pt, 1)[i], p(pt, 2)[i]};
     lvt = below;
     lpt = 0;
     detail::step<T, WithMaterial>(tape, in, values, materials, lvt, points, lpt);
-    for (int j = 0; j <= lvt; ++j) s.v[vt - below + j][i] = values[j];
+    for (int j = 0; j <= lvt; ++j) v(vt - below + j)[i] = values[j];
     if constexpr (WithMaterial)
       for (int j = 0; j <= lvt; ++j) s.m[vt - below + j][i] = materials[j];
     if (lpt == 1) {
@@ -47,11 +48,11 @@ void step_lanes(const Tape& tape, const Instr& in, Stacks<T, WithMaterial>& s, i
 }
 
 // The one-point code's rule for a binary instruction: the result's material is b's where b decides the value.
-template <class T, bool WithMaterial>
-void combine_materials(const Instr& in, Stacks<T, WithMaterial>& s, int vt, int n) {
+template <class T, bool WithMaterial, class Values>
+void combine_materials(const Instr& in, Stacks<T, WithMaterial>& s, const Values& v, int vt, int n) {
   if constexpr (WithMaterial) {
-    const T* __restrict x = s.v[vt];
-    const T* __restrict b = s.v[vt + 1];
+    const T* __restrict x = v(vt);
+    const T* __restrict b = v(vt + 1);
     int* __restrict m = s.m[vt];
     const int* __restrict mb = s.m[vt + 1];
     switch (in.op) {
@@ -74,12 +75,15 @@ template <class T, bool WithMaterial>
 void run_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int* material, int n) {
   Stacks<T, WithMaterial> s;
   int vt = -1, pt = 0;
-  for (int i = 0; i < n; ++i) {
-    s.x[0][i] = x[i];
-    s.y[0][i] = y[i];
-    s.z[0][i] = z[i];
-  }
-  for (const Instr& in : tape.code) {
+  // The bottom entries are the caller's arrays: the points read in place, the result written in place (copies
+  // of 64 lanes were library calls, as costly as a cheap instruction).
+  const auto v = [&](int level) { return level == 0 ? out : s.v[level]; };
+  const auto p = [&](int level, int axis) -> T* {
+    if (level == 0) return const_cast<T*>(axis == 0 ? x : axis == 1 ? y : z);  // only read
+    return axis == 0 ? s.x[level] : axis == 1 ? s.y[level] : s.z[level];
+  };
+  for (size_t at = 0; at < tape.code.size(); ++at) {
+    const Instr& in = tape.code[at];
     const std::uint32_t a = in.arg;
     if constexpr (WithMaterial) {
       // A vectorised primitive pushes a value whose material is its own (lane-by-lane ones set theirs).
@@ -89,12 +93,12 @@ void run_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int
         for (int i = 0; i < n; ++i) s.m[vt + 1][i] = in.material;
     }
     auto k = [&](std::uint32_t i) { return tape.c<T>(a + i); };
-    const T* __restrict px = s.x[pt];
-    const T* __restrict py = s.y[pt];
-    const T* __restrict pz = s.z[pt];
+    const T* __restrict px = p(pt, 0);
+    const T* __restrict py = p(pt, 1);
+    const T* __restrict pz = p(pt, 2);
     switch (in.op) {
       case TapeOp::sphere: {
-        T* __restrict r = s.v[++vt];
+        T* __restrict r = v(++vt);
         const T k0 = k(0);
         for (int i = 0; i < n; ++i) {
           T d = px[i] * px[i];
@@ -105,14 +109,14 @@ void run_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int
         break;
       }
       case TapeOp::plane: {
-        T* __restrict r = s.v[++vt];
+        T* __restrict r = v(++vt);
         const T k0 = k(0), k1 = k(1), k2 = k(2), k3 = k(3);
         for (int i = 0; i < n; ++i) r[i] = px[i] * k0 + py[i] * k1 + pz[i] * k2 + k3;
         break;
       }
       case TapeOp::box:
       case TapeOp::round_box: {
-        T* __restrict r = s.v[++vt];
+        T* __restrict r = v(++vt);
         const T bx = k(0), by = k(1), bz = k(2), rr = in.op == TapeOp::round_box ? k(3) : T(0);
         const bool rounded = in.op == TapeOp::round_box;
         for (int i = 0; i < n; ++i) {
@@ -135,7 +139,7 @@ void run_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int
         break;
       }
       case TapeOp::torus: {
-        T* __restrict r = s.v[++vt];
+        T* __restrict r = v(++vt);
         const T k0 = k(0), k1 = k(1);
         for (int i = 0; i < n; ++i) {
           T xz = px[i] * px[i];
@@ -150,9 +154,9 @@ void run_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int
       case TapeOp::min:
       case TapeOp::max:
       case TapeOp::subtract: {
-        combine_materials(in, s, vt - 1, n);
-        const T* __restrict b = s.v[vt--];
-        T* __restrict r = s.v[vt];
+        combine_materials(in, s, v, vt - 1, n);
+        const T* __restrict b = v(vt--);
+        T* __restrict r = v(vt);
         if (in.op == TapeOp::min) {
           for (int i = 0; i < n; ++i) r[i] = b[i] < r[i] ? b[i] : r[i];
         } else if (in.op == TapeOp::max) {
@@ -165,9 +169,9 @@ void run_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int
       case TapeOp::smooth_min:
       case TapeOp::smooth_max:
       case TapeOp::smooth_subtract: {
-        combine_materials(in, s, vt - 1, n);
-        const T* __restrict b = s.v[vt--];
-        T* __restrict r = s.v[vt];
+        combine_materials(in, s, v, vt - 1, n);
+        const T* __restrict b = v(vt--);
+        T* __restrict r = v(vt);
         const T kk = k(0);
         // -smooth_min(-x, -b) and -smooth_min(-x, b), as the one-point code: sa and sb give the signs.
         const T sa = in.op == TapeOp::smooth_min ? T(1) : T(-1);
@@ -181,13 +185,13 @@ void run_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int
         break;
       }
       case TapeOp::round: {
-        T* __restrict r = s.v[vt];
+        T* __restrict r = v(vt);
         const T k0 = k(0);
         for (int i = 0; i < n; ++i) r[i] -= k0;
         break;
       }
       case TapeOp::scale_value: {
-        T* __restrict r = s.v[vt];
+        T* __restrict r = v(vt);
         const T k0 = k(0);
         for (int i = 0; i < n; ++i) r[i] *= k0;
         break;
@@ -197,6 +201,25 @@ void run_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int
           for (int i = 0; i < n; ++i) s.m[vt][i] = in.material;
         break;
       case TapeOp::p_translate:
+        if (at + 2 < tape.code.size() && tape.code[at + 1].op == TapeOp::sphere &&
+            tape.code[at + 2].op == TapeOp::p_pop) {
+          // A translated sphere in one loop: the moved point is never stored (the three instructions' expressions).
+          const Instr& sphere = tape.code[at + 1];
+          if constexpr (WithMaterial)
+            for (int i = 0; i < n; ++i) s.m[vt + 1][i] = sphere.material;
+          T* __restrict r = v(++vt);
+          const T k0 = k(0), k1 = k(1), k2 = k(2), radius = tape.c<T>(sphere.arg);
+          for (int i = 0; i < n; ++i) {
+            const T qx = px[i] - k0, qy = py[i] - k1, qz = pz[i] - k2;
+            T d = qx * qx;
+            d += qy * qy;
+            d += qz * qz;
+            r[i] = std::sqrt(d) - radius;
+          }
+          at += 2;
+          break;
+        }
+        [[fallthrough]];
       case TapeOp::p_scale: {
         ++pt;
         T* __restrict qx = s.x[pt];
@@ -234,10 +257,9 @@ void run_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int
         break;
       }
       case TapeOp::p_pop: --pt; break;
-      default: step_lanes(tape, in, s, vt, pt, n); break;
+      default: step_lanes(tape, in, s, v, p, vt, pt, n); break;
     }
   }
-  for (int i = 0; i < n; ++i) out[i] = s.v[0][i];
   if constexpr (WithMaterial)
     for (int i = 0; i < n; ++i) material[i] = s.m[0][i];
 }

@@ -9,10 +9,11 @@
 
 namespace marchcheck::march {
 
+// A plain aggregate (PacketRay<T>{} is all zero): the renderer's per-tile arrays of them are filled, not zeroed.
 template <class T>
 struct PacketRay {
-  glm::vec<3, T> origin{0}, direction{0};
-  double max_dist = 0;  // replaces the settings' max_dist for this ray
+  glm::vec<3, T> origin, direction;
+  double max_dist;  // replaces the settings' max_dist for this ray
 };
 
 // records[i] = march(tape, rays[i], s with max_dist = rays[i].max_dist, c) for i < n. No allocation.

@@ -79,9 +79,14 @@ struct SurfaceOracle {
 // images = all fills every image of RenderResult; images = asked fills the colour and only the AOVs asked for,
 // leaving the others empty (0x0): the per-pixel writes and page faults of unread images are most of a fast
 // render's time otherwise.
+//
+// shade: the arithmetic of the primary hits' shading. single (float) draws the same 8-bit image as dual (double)
+// but for pixels on a rounding boundary (test_render.cpp states how many), at a fraction of the cost; dual is
+// the reference that claim is tested against. Secondary rays shade in double either way.
 enum class Images { all, asked };
+enum class ShadePrecision { single, dual };
 RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs = {}, const SurfaceOracle* oracle = nullptr,
-                    Images images = Images::all);
+                    Images images = Images::all, ShadePrecision shade = ShadePrecision::single);
 
 // Dotted cost metrics: cost.stages.<stage>.evals/.seconds, cost.evals_per_pixel, cost.steps_max, cost.seconds.
 std::map<std::string, double> cost_metrics(const RenderResult& result);
@@ -95,6 +100,9 @@ void write_render(const RenderResult& result, const std::string& path, const std
 // Writes an image through a temporary file renamed into place; PNG/JPEG get 8-bit sRGB (or raw 8-bit for
 // data images: srgb = false), EXR/TIFF float.
 void write_image(const Image& image, const std::string& path, bool srgb = true);
+
+// The bytes write_image puts in an 8-bit file: sRGB-encoded (or clamped raw values: srgb = false), rounded.
+std::vector<unsigned char> to_8bit(const Image& image, bool srgb = true);
 
 // A heat map (dark blue to yellow) of a one-channel image over [0, max_value].
 Image heat_map(const Image& values, double max_value);
