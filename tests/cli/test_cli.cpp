@@ -7,7 +7,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
+#include <unistd.h>
+#include <vector>
 
 namespace {
 
@@ -74,6 +78,32 @@ TEST_F(Cli, ValidateExitsZeroOnPassOneOnAFailedCheckTwoOnBadInput) {
   EXPECT_EQ(failed.status, 1);
   EXPECT_NE(failed.output.find("hit.undecided"), std::string::npos);
   EXPECT_EQ(run("validate no-such-scene").status, 2);
+}
+
+// Issue 7's memory target, measured by the kernel: the peak resident memory of a 3840x2160 render with every
+// AOV written, run as its own process (execv, no shell in between, so wait4 reports the renderer itself).
+TEST_F(Cli, RenderingFourKWithEveryAovStaysUnderTwoGiB) {
+  const std::string output = path("4k.exr");
+  std::vector<std::string> args = {MARCHCHECK_BINARY, "render", "lee-flat", "--size", "3840x2160", "--aov",
+                                   "depth,normal,steps,evals,id,stages", "-o", output};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    const int null_fd = ::open("/dev/null", O_WRONLY);
+    ::dup2(null_fd, 1);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  int status = 0;
+  rusage usage{};
+  ASSERT_EQ(::wait4(child, &status, 0, &usage), child);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+  const double peak_mib = static_cast<double>(usage.ru_maxrss) / 1024;  // ru_maxrss is in KiB on Linux
+  EXPECT_LT(peak_mib, 2048) << "peak " << peak_mib << " MiB";
+  EXPECT_GT(peak_mib, 3840.0 * 2160 * 4 / (1 << 20)) << "less than one float per pixel: not the whole render";
+  EXPECT_TRUE(std::filesystem::exists(output));
 }
 
 // What an estimate is not held to is still printed, with its value, and written to the JSON.
