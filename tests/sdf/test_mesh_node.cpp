@@ -10,6 +10,7 @@
 
 #include <cfloat>
 #include <cstdio>
+#include <limits>
 #include <random>
 
 namespace marchcheck::sdf {
@@ -96,6 +97,77 @@ TEST(MeshNode, SignByTheClosestFaceNormalIsCaughtAtSharpEdges) {
     }
     std::printf("%s: face-normal sign wrong at %d of 6000 points, pseudonormal sign at %d\n", c.name, wrong_face,
                 wrong_pseudo);
+  }
+}
+
+// The closest triangle over all of them, in the order given, by the same point-triangle routine.
+template <class S>
+MeshDistance::Closest<S> brute_force_closest(const MeshDistance& md, glm::vec<3, S> p) {
+  MeshDistance::Closest<S> best{};
+  best.distance2 = std::numeric_limits<S>::infinity();
+  const TriangleMesh& m = md.mesh();
+  for (std::uint32_t f = 0; f < m.triangles.size(); ++f) {
+    const auto& t = m.triangles[f];
+    const std::array<glm::vec<3, S>, 3> corners{glm::vec<3, S>(m.vertices[t[0]]), glm::vec<3, S>(m.vertices[t[1]]),
+                                                glm::vec<3, S>(m.vertices[t[2]])};
+    MeshDistance::Feature feature;
+    const glm::vec<3, S> q = detail::closest_on_triangle(p, corners, feature);
+    const S d2 = glm::dot(p - q, p - q);
+    if (d2 < best.distance2) best = {q, d2, f, feature, {}, {}};
+  }
+  return best;
+}
+
+// Whether the search found a closest triangle exactly as the brute force would: the same distance2 to the bit,
+// and the triangle it names at that distance2, with the feature and point the routine gives for it (on exact
+// ties several triangles share the closest point, e.g. all around a closest vertex).
+template <class S>
+bool same_as_brute_force(const MeshDistance& md, glm::vec<3, S> p) {
+  const auto got = md.closest(p);
+  const auto all = brute_force_closest(md, p);
+  const TriangleMesh& m = md.mesh();
+  const auto& t = m.triangles[got.triangle];
+  const std::array<glm::vec<3, S>, 3> corners{glm::vec<3, S>(m.vertices[t[0]]), glm::vec<3, S>(m.vertices[t[1]]),
+                                              glm::vec<3, S>(m.vertices[t[2]])};
+  MeshDistance::Feature feature;
+  const glm::vec<3, S> q = detail::closest_on_triangle(p, corners, feature);
+  return got.distance2 == all.distance2 && glm::dot(p - q, p - q) == all.distance2 && got.feature == feature &&
+         got.point == q;
+}
+
+TEST(MeshNode, SearchFindsExactlyTheBruteForceClosestTriangle) {
+  // The search prunes boxes by their distance: a box pruned wrongly, or searched in an order that leaves a
+  // closer triangle behind, shows here as a distance2 differing from the minimum over all triangles.
+  auto all_cases = cases();
+  all_cases.push_back({"icosphere(1,4)", meshes::icosphere(1, 4)});  // the mesh-icosphere scene's
+  for (const auto& c : all_cases) {
+    const MeshDistance md(validation::to_triangle_mesh(c.mesh.mesh));
+    std::vector<dvec3> points = samples(md, 1000, 5);
+    const auto& m = md.mesh();
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> u(0, 1), tiny(-1e-6, 1e-6);
+    std::normal_distribution<double> g;
+    const double size = glm::length(md.bounds().size());
+    for (int i = 0; i < 300; ++i) {
+      const auto& t = m.triangles[static_cast<size_t>(i) % m.triangles.size()];
+      const dvec3 a = m.vertices[t[0]], b = m.vertices[t[1]];
+      // On and just off an edge and a vertex, where neighbouring triangles tie or nearly tie.
+      const dvec3 on_edge = a + (b - a) * u(rng);
+      points.push_back(on_edge);
+      points.push_back(on_edge + dvec3(tiny(rng), tiny(rng), tiny(rng)));
+      points.push_back(a);
+      points.push_back(a + dvec3(tiny(rng), tiny(rng), tiny(rng)));
+      // Far away, where many triangles lie at nearly the same distance.
+      const dvec3 dir = glm::normalize(dvec3(g(rng), g(rng), g(rng)));
+      points.push_back(md.bounds().center() + dir * (size * (2 + 50 * u(rng))));
+    }
+    int wrong_double = 0, wrong_float = 0;
+    for (const dvec3& p : points) {
+      wrong_double += !same_as_brute_force(md, p);
+      wrong_float += !same_as_brute_force(md, glm::vec3(p));
+    }
+    EXPECT_EQ(wrong_double, 0) << c.name << " of " << points.size();
+    EXPECT_EQ(wrong_float, 0) << c.name << " of " << points.size();
   }
 }
 

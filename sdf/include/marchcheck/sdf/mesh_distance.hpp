@@ -131,13 +131,28 @@ MeshDistance::Closest<S> MeshDistance::closest(glm::vec<3, S> p) const {
   Closest<S> best{};
   best.distance2 = std::numeric_limits<S>::infinity();
   std::uint32_t best_slot = 0;
-  std::uint32_t stack[64];
+  // Nodes still to search with their boxes' distance2, kept so a node is pruned on popping without a second box
+  // test; the nearer child is searched at once, the other waits on the stack.
+  struct Pending {
+    std::uint32_t node;
+    S box2;
+  };
+  Pending stack[64];
   int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node<S>& n = a.nodes[stack[--top]];
-    if (detail::box_distance2(p, n.lo, n.hi) >= best.distance2) continue;
-    if (n.count > 0) {
+  std::uint32_t at = 0;
+  S at_box2 = detail::box_distance2(p, a.nodes[0].lo, a.nodes[0].hi);
+  for (;;) {
+    if (at_box2 < best.distance2) {
+      const Node<S>& n = a.nodes[at];
+      if (n.count == 0) {
+        const S dl = detail::box_distance2(p, a.nodes[n.first].lo, a.nodes[n.first].hi);
+        const S dr = detail::box_distance2(p, a.nodes[n.second].lo, a.nodes[n.second].hi);
+        const bool left_first = dl < dr;
+        stack[top++] = {left_first ? n.second : n.first, left_first ? dr : dl};
+        at = left_first ? n.first : n.second;
+        at_box2 = left_first ? dl : dr;
+        continue;
+      }
       for (std::uint32_t i = n.first; i < n.first + n.count; ++i) {
         Feature f;
         const glm::vec<3, S> q = detail::closest_on_triangle(p, a.corners[i], f);
@@ -150,13 +165,11 @@ MeshDistance::Closest<S> MeshDistance::closest(glm::vec<3, S> p) const {
           best_slot = i;
         }
       }
-      continue;
     }
-    // Nearer child last, so it is searched first and prunes the other.
-    const S dl = detail::box_distance2(p, a.nodes[n.first].lo, a.nodes[n.first].hi);
-    const S dr = detail::box_distance2(p, a.nodes[n.second].lo, a.nodes[n.second].hi);
-    stack[top++] = dl < dr ? n.second : n.first;
-    stack[top++] = dl < dr ? n.first : n.second;
+    if (top == 0) break;
+    --top;
+    at = stack[top].node;
+    at_box2 = stack[top].box2;
   }
   best.triangle = order_[best_slot];
   best.pseudonormal = a.normals[best_slot][best.feature];
