@@ -30,11 +30,10 @@ bool same_bits(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std
 bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
 // How many points evaluate_batch / sample_batch (batch_tape) and evaluate / sample (point_tape) disagree on
-// (values or materials) (NaN equal to NaN only when
-// the bits match), over batches of 64, 37 and 1 points.
+// (values or materials; NaN equal to NaN only when the bits match), over batches of kBatch, 37 and 1 points.
 template <class T>
 int mismatches(const Tape& batch_tape, const Tape& point_tape) {
-  const auto pts = points<T>(64 + 37 + 1);
+  const auto pts = points<T>(kBatch + 37 + 1);
   int bad = 0;
   size_t at = 0;
   for (int n : {kBatch, 37, 1}) {
