@@ -11,7 +11,6 @@ namespace marchcheck::sdf {
 namespace {
 
 using glm::dvec3;
-constexpr std::uint32_t kLeafSize = 4;
 
 std::string edge_name(std::uint32_t a, std::uint32_t b) {
   return "(" + std::to_string(a) + ", " + std::to_string(b) + ")";
@@ -22,6 +21,18 @@ double corner_angle(dvec3 a, dvec3 b, dvec3 c) {
   const dvec3 u = glm::normalize(b - a), v = glm::normalize(c - a);
   return std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v));
 }
+
+// A node of the binary tree the four-wide one is collapsed from.
+struct BinaryNode {
+  dvec3 lo, hi;
+  std::uint32_t first;   // leaf: first triangle (BVH order); inner: left child
+  std::uint32_t second;  // inner: right child
+  std::uint32_t count;   // leaf: how many triangles; inner: 0
+  double area() const {
+    const dvec3 e = hi - lo;
+    return e.x * e.y + e.y * e.z + e.z * e.x;
+  }
+};
 
 }  // namespace
 
@@ -60,7 +71,7 @@ MeshDistance::MeshDistance(const TriangleMesh& mesh) : mesh_(mesh) {
                            " has no twin running the other way: the mesh is open or inconsistently oriented");
   if (!(volume6 > 0)) throw MeshShapeError("the mesh encloses a negative volume: it is inside out");
 
-  // Median split on the longest axis of the centroids' box.
+  // Median split on the longest axis of the centroids' box, at a multiple of the leaf width so leaves are full.
   std::vector<dvec3> centroid(ts.size());
   bounds_ = Box3{dvec3(INFINITY), dvec3(-INFINITY)};
   for (std::uint32_t f = 0; f < ts.size(); ++f) {
@@ -72,36 +83,35 @@ MeshDistance::MeshDistance(const TriangleMesh& mesh) : mesh_(mesh) {
   }
   order_.resize(ts.size());
   std::iota(order_.begin(), order_.end(), 0u);
-  std::vector<Node<double>> nodes;
+  std::vector<BinaryNode> binary;
   auto build = [&](auto&& self, std::uint32_t first, std::uint32_t count) -> std::uint32_t {
-    const auto index = static_cast<std::uint32_t>(nodes.size());
-    nodes.push_back({dvec3(INFINITY), dvec3(-INFINITY), first, 0, count});
+    const auto index = static_cast<std::uint32_t>(binary.size());
+    binary.push_back({dvec3(INFINITY), dvec3(-INFINITY), first, 0, count});
     dvec3 clo(INFINITY), chi(-INFINITY);
     for (std::uint32_t i = first; i < first + count; ++i) {
       for (int k = 0; k < 3; ++k) {
-        nodes[index].lo = glm::min(nodes[index].lo, vs[ts[order_[i]][k]]);
-        nodes[index].hi = glm::max(nodes[index].hi, vs[ts[order_[i]][k]]);
+        binary[index].lo = glm::min(binary[index].lo, vs[ts[order_[i]][k]]);
+        binary[index].hi = glm::max(binary[index].hi, vs[ts[order_[i]][k]]);
       }
       clo = glm::min(clo, centroid[order_[i]]);
       chi = glm::max(chi, centroid[order_[i]]);
     }
-    if (count <= kLeafSize) return index;
+    if (count <= kLeafWidth) return index;
     const dvec3 extent = chi - clo;
     const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
-    const std::uint32_t half = count / 2;
+    const std::uint32_t half = (count / 2 + kLeafWidth - 1) / kLeafWidth * kLeafWidth;
     std::nth_element(order_.begin() + first, order_.begin() + first + half, order_.begin() + first + count,
                      [&](std::uint32_t x, std::uint32_t y) { return centroid[x][axis] < centroid[y][axis]; });
     const std::uint32_t left = self(self, first, half);
     const std::uint32_t right = self(self, first + half, count - half);
-    nodes[index].first = left;
-    nodes[index].second = right;
-    nodes[index].count = 0;
+    binary[index].first = left;
+    binary[index].second = right;
+    binary[index].count = 0;
     return index;
   };
   build(build, 0, static_cast<std::uint32_t>(ts.size()));
 
   Arrays<double> d;
-  d.nodes = std::move(nodes);
   for (const std::uint32_t f : order_) {
     const auto& t = ts[f];
     d.corners.push_back({vs[t[0]], vs[t[1]], vs[t[2]]});
@@ -110,22 +120,79 @@ MeshDistance::MeshDistance(const TriangleMesh& mesh) : mesh_(mesh) {
     d.normals.push_back({vertex_normal[t[0]], vertex_normal[t[1]], vertex_normal[t[2]], edge(0), edge(1), edge(2),
                          face_normal[f]});
   }
-  // Boxes rounded outwards, so a float query never prunes a box that holds its closest triangle.
-  for (const auto& n : d.nodes) {
-    glm::vec3 lo(n.lo), hi(n.hi);
-    for (int i = 0; i < 3; ++i) {
-      if (lo[i] > n.lo[i]) lo[i] = std::nextafter(lo[i], -INFINITY);
-      if (hi[i] < n.hi[i]) hi[i] = std::nextafter(hi[i], INFINITY);
-    }
-    single_.nodes.push_back({lo, hi, n.first, n.second, n.count});
-  }
   for (const auto& c : d.corners) single_.corners.push_back({glm::vec3(c[0]), glm::vec3(c[1]), glm::vec3(c[2])});
   for (const auto& n : d.normals) {
     std::array<glm::vec3, 7> f;
     for (size_t i = 0; i < 7; ++i) f[i] = glm::vec3(n[i]);
     single_.normals.push_back(f);
   }
+
+  // Collapsed to four children per node: an inner child with the largest box is replaced by its two children
+  // until there are four. Float boxes are rounded outwards, so a float query never prunes a box that holds its
+  // closest triangle.
+  auto collapse = [&](auto&& self, std::uint32_t at) -> std::uint32_t {
+    const BinaryNode& b = binary[at];
+    if (b.count > 0) {
+      const auto leaf = static_cast<std::uint32_t>(d.leaves.size());
+      d.leaves.push_back(make_leaf(d.corners, b.first, b.count));
+      single_.leaves.push_back(make_leaf(single_.corners, b.first, b.count));
+      return leaf | kLeafBit;
+    }
+    std::vector<std::uint32_t> children{b.first, b.second};
+    while (children.size() < 4) {
+      auto widest = children.end();
+      for (auto c = children.begin(); c != children.end(); ++c)
+        if (binary[*c].count == 0 && (widest == children.end() || binary[*c].area() > binary[*widest].area()))
+          widest = c;
+      if (widest == children.end()) break;
+      const BinaryNode& w = binary[*widest];
+      *widest = w.first;
+      children.push_back(w.second);
+    }
+    const auto index = static_cast<std::uint32_t>(d.nodes.size());
+    d.nodes.emplace_back();
+    single_.nodes.emplace_back();
+    for (int k = 0; k < 4; ++k) {
+      const bool used = k < static_cast<int>(children.size());
+      for (int i = 0; i < 3; ++i) {
+        const double lo = used ? binary[children[k]].lo[i] : INFINITY, hi = used ? binary[children[k]].hi[i] : -INFINITY;
+        d.nodes[index].lo[i][k] = lo;
+        d.nodes[index].hi[i][k] = hi;
+        float flo = static_cast<float>(lo), fhi = static_cast<float>(hi);
+        if (flo > lo) flo = std::nextafter(flo, -INFINITY);
+        if (fhi < hi) fhi = std::nextafter(fhi, INFINITY);
+        single_.nodes[index].lo[i][k] = flo;
+        single_.nodes[index].hi[i][k] = fhi;
+      }
+      const std::uint32_t child = used ? self(self, children[k]) : 0;
+      d.nodes[index].child[k] = child;
+      single_.nodes[index].child[k] = child;
+    }
+    return index;
+  };
+  collapse(collapse, 0);
   double_ = std::move(d);
+}
+
+template <class S>
+MeshDistance::Leaf<S> MeshDistance::make_leaf(const std::vector<std::array<glm::vec<3, S>, 3>>& corners,
+                                              std::uint32_t first, std::uint32_t count) {
+  Leaf<S> l;
+  l.first = first;
+  for (std::uint32_t k = 0; k < kLeafWidth; ++k) {
+    // Edge vectors as closest_on_triangle computes them, in S.
+    const auto& t = corners[first + std::min(k, count - 1)];
+    const glm::vec<3, S> ab = t[1] - t[0], ac = t[2] - t[0], bc = t[2] - t[1];
+    for (int i = 0; i < 3; ++i) {
+      l.a[i][k] = t[0][i];
+      l.b[i][k] = t[1][i];
+      l.c[i][k] = t[2][i];
+      l.ab[i][k] = ab[i];
+      l.ac[i][k] = ac[i];
+      l.bc[i][k] = bc[i];
+    }
+  }
+  return l;
 }
 
 }  // namespace marchcheck::sdf

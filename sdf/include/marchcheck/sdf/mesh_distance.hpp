@@ -7,8 +7,11 @@
 #include "marchcheck/sdf/scalar.hpp"
 #include "marchcheck/sdf/scene.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstring>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -51,20 +54,33 @@ class MeshDistance {
   T signed_distance(glm::vec<3, T> p) const;
 
  private:
+  // Up to kLeafWidth triangles side by side, each corner and edge vector as one array per axis, so their
+  // distances are computed together; unused lanes repeat the last triangle.
+  static constexpr int kLeafWidth = 8;
+  template <class S>
+  struct Leaf {
+    std::array<S, kLeafWidth> a[3], b[3], c[3], ab[3], ac[3], bc[3];
+    std::uint32_t first;  // BVH position of lane 0
+  };
+  // Four children's boxes side by side (per axis, then child), tested together. A child is an inner node, or a
+  // leaf with kLeafBit set; an unused one has an empty box (lo = +inf), which is never nearer than any distance.
+  static constexpr std::uint32_t kLeafBit = 1u << 31;
   template <class S>
   struct Node {
-    glm::vec<3, S> lo, hi;
-    std::uint32_t first;   // leaf: first triangle (BVH order); inner: left child
-    std::uint32_t second;  // inner: right child
-    std::uint32_t count;   // leaf: how many triangles; inner: 0
+    std::array<S, 4> lo[3], hi[3];
+    std::array<std::uint32_t, 4> child;
   };
   // Triangles in BVH order, each with its corners, its normal and the pseudonormals of its features.
   template <class S>
   struct Arrays {
     std::vector<std::array<glm::vec<3, S>, 3>> corners;
     std::vector<std::array<glm::vec<3, S>, 7>> normals;  // by Feature
-    std::vector<Node<S>> nodes;
+    std::vector<Node<S>> nodes;                          // the root first
+    std::vector<Leaf<S>> leaves;
   };
+  template <class S>
+  static Leaf<S> make_leaf(const std::vector<std::array<glm::vec<3, S>, 3>>& corners, std::uint32_t first,
+                           std::uint32_t count);
 
   template <class S>
   const Arrays<S>& arrays() const {
@@ -117,10 +133,63 @@ inline glm::vec<3, S> closest_on_triangle(glm::vec<3, S> p, const std::array<glm
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
+// A row of lanes as a GCC vector, so the compiler computes them in SIMD registers whatever it makes of a loop.
+template <class S, std::size_t N>
+inline auto lanes(const std::array<S, N>& a) {
+  typedef S V __attribute__((vector_size(N * sizeof(S))));
+  V v;
+  std::memcpy(&v, a.data(), sizeof v);
+  return v;
+}
+
+// Squared distance from p to each of a leaf's triangles, by closest_on_triangle's arithmetic operation for
+// operation (so to the bit), with every candidate point computed and the one its branches would return chosen.
+template <class S, class L>
+inline void leaf_distance2(glm::vec<3, S> p, const L& l, S* out) {
+  using V = decltype(lanes(l.a[0]));
+  const V apx = p.x - lanes(l.a[0]), apy = p.y - lanes(l.a[1]), apz = p.z - lanes(l.a[2]);
+  const V bpx = p.x - lanes(l.b[0]), bpy = p.y - lanes(l.b[1]), bpz = p.z - lanes(l.b[2]);
+  const V cpx = p.x - lanes(l.c[0]), cpy = p.y - lanes(l.c[1]), cpz = p.z - lanes(l.c[2]);
+  const V abx = lanes(l.ab[0]), aby = lanes(l.ab[1]), abz = lanes(l.ab[2]);
+  const V acx = lanes(l.ac[0]), acy = lanes(l.ac[1]), acz = lanes(l.ac[2]);
+  const V d1 = abx * apx + aby * apy + abz * apz, d2 = acx * apx + acy * apy + acz * apz;
+  const V d3 = abx * bpx + aby * bpy + abz * bpz, d4 = acx * bpx + acy * bpy + acz * bpz;
+  const V d5 = abx * cpx + aby * cpy + abz * cpz, d6 = acx * cpx + acy * cpy + acz * cpz;
+  const V vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
+  const V t01 = d1 / (d1 - d3), t20 = d2 / (d2 - d6), t12 = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+  const V denom = S(1) / (va + vb + vc), v = vb * denom, w = vc * denom;
+  const auto v0 = (d1 <= 0) & (d2 <= 0), v1 = (d3 >= 0) & (d4 <= d3), e01 = (vc <= 0) & (d1 >= 0) & (d3 <= 0);
+  const auto v2 = (d6 >= 0) & (d5 <= d6), e20 = (vb <= 0) & (d2 >= 0) & (d6 <= 0);
+  const auto e12 = (va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0);
+  V d[3];
+  for (int i = 0; i < 3; ++i) {
+    const V a = lanes(l.a[i]), b = lanes(l.b[i]), ab = lanes(l.ab[i]), ac = lanes(l.ac[i]);
+    V q = a + ab * v + ac * w;
+    q = e12 ? b + lanes(l.bc[i]) * t12 : q;
+    q = e20 ? a + ac * t20 : q;
+    q = v2 ? lanes(l.c[i]) : q;
+    q = e01 ? a + ab * t01 : q;
+    q = v1 ? b : q;
+    q = v0 ? a : q;
+    d[i] = p[i] - q;
+  }
+  const V d2sum = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  std::memcpy(out, &d2sum, sizeof d2sum);
+}
+
+// Squared distance from p to each of four boxes.
 template <class S>
-inline S box_distance2(glm::vec<3, S> p, glm::vec<3, S> lo, glm::vec<3, S> hi) {
-  const glm::vec<3, S> d = glm::max(glm::max(lo - p, p - hi), glm::vec<3, S>(0));
-  return glm::dot(d, d);
+inline void boxes_distance2(glm::vec<3, S> p, const std::array<S, 4> (&lo)[3], const std::array<S, 4> (&hi)[3],
+                            S* out) {
+  using V = decltype(lanes(lo[0]));
+  V sum{};
+  for (int i = 0; i < 3; ++i) {
+    const V below = lanes(lo[i]) - p[i], above = p[i] - lanes(hi[i]);
+    V d = below > above ? below : above;
+    d = d > 0 ? d : V{};
+    sum = i == 0 ? d * d : sum + d * d;
+  }
+  std::memcpy(out, &sum, sizeof sum);
 }
 
 }  // namespace detail
@@ -128,49 +197,54 @@ inline S box_distance2(glm::vec<3, S> p, glm::vec<3, S> lo, glm::vec<3, S> hi) {
 template <class S>
 MeshDistance::Closest<S> MeshDistance::closest(glm::vec<3, S> p) const {
   const Arrays<S>& a = arrays<S>();
-  Closest<S> best{};
-  best.distance2 = std::numeric_limits<S>::infinity();
+  S best2 = std::numeric_limits<S>::infinity();
   std::uint32_t best_slot = 0;
-  // Nodes still to search with their boxes' distance2, kept so a node is pruned on popping without a second box
-  // test; the nearer child is searched at once, the other waits on the stack.
+  // Nodes still to search with their boxes' distance2, pruned on popping against the best found by then; the
+  // nearest child is searched at once, the others wait on the stack, nearer ones on top. The collapsed median
+  // tree is at most 32 levels deep, with three waiting per level.
   struct Pending {
     std::uint32_t node;
     S box2;
   };
-  Pending stack[64];
+  Pending stack[96];
   int top = 0;
   std::uint32_t at = 0;
-  S at_box2 = detail::box_distance2(p, a.nodes[0].lo, a.nodes[0].hi);
   for (;;) {
-    if (at_box2 < best.distance2) {
+    if (at & kLeafBit) {
+      const Leaf<S>& l = a.leaves[at & ~kLeafBit];
+      S d2[kLeafWidth];
+      detail::leaf_distance2(p, l, d2);
+      // In lane order: a repeated last triangle never beats its first lane.
+      for (std::uint32_t k = 0; k < kLeafWidth; ++k)
+        if (d2[k] < best2) {
+          best2 = d2[k];
+          best_slot = l.first + k;
+        }
+    } else {
       const Node<S>& n = a.nodes[at];
-      if (n.count == 0) {
-        const S dl = detail::box_distance2(p, a.nodes[n.first].lo, a.nodes[n.first].hi);
-        const S dr = detail::box_distance2(p, a.nodes[n.second].lo, a.nodes[n.second].hi);
-        const bool left_first = dl < dr;
-        stack[top++] = {left_first ? n.second : n.first, left_first ? dr : dl};
-        at = left_first ? n.first : n.second;
-        at_box2 = left_first ? dl : dr;
+      S box2[4];
+      detail::boxes_distance2(p, n.lo, n.hi, box2);
+      // The children nearer than the best, nearest first.
+      int near[4], count = 0;
+      for (int k = 0; k < 4; ++k) {
+        if (!(box2[k] < best2)) continue;
+        int j = count++;
+        for (; j > 0 && box2[near[j - 1]] > box2[k]; --j) near[j] = near[j - 1];
+        near[j] = k;
+      }
+      if (count > 0) {
+        for (int j = count - 1; j > 0; --j) stack[top++] = {n.child[near[j]], box2[near[j]]};
+        at = n.child[near[0]];
         continue;
       }
-      for (std::uint32_t i = n.first; i < n.first + n.count; ++i) {
-        Feature f;
-        const glm::vec<3, S> q = detail::closest_on_triangle(p, a.corners[i], f);
-        const glm::vec<3, S> d = p - q;
-        const S d2 = glm::dot(d, d);
-        if (d2 < best.distance2) {
-          best.distance2 = d2;
-          best.point = q;
-          best.feature = f;
-          best_slot = i;
-        }
-      }
     }
+    while (top > 0 && !(stack[top - 1].box2 < best2)) --top;
     if (top == 0) break;
-    --top;
-    at = stack[top].node;
-    at_box2 = stack[top].box2;
+    at = stack[--top].node;
   }
+  Closest<S> best;
+  best.point = detail::closest_on_triangle(p, a.corners[best_slot], best.feature);
+  best.distance2 = best2;
   best.triangle = order_[best_slot];
   best.pseudonormal = a.normals[best_slot][best.feature];
   best.face_normal = a.normals[best_slot][face];
