@@ -129,16 +129,16 @@ MeshDistance::MeshDistance(const TriangleMesh& mesh) : mesh_(mesh) {
 
   // Collapsed to four children per node: an inner child with the largest box is replaced by its two children
   // until there are four. Float boxes are rounded outwards, so a float query never prunes a box that holds its
-  // closest triangle.
-  auto collapse = [&](auto&& self, std::uint32_t at) -> std::uint32_t {
+  // closest triangle. The root is a four-wide node even over a single leaf.
+  auto collapse = [&](auto&& self, std::uint32_t at, bool root) -> std::uint32_t {
     const BinaryNode& b = binary[at];
-    if (b.count > 0) {
+    if (b.count > 0 && !root) {
       const auto leaf = static_cast<std::uint32_t>(d.leaves.size());
       d.leaves.push_back(make_leaf(d.corners, b.first, b.count));
       single_.leaves.push_back(make_leaf(single_.corners, b.first, b.count));
       return leaf | kLeafBit;
     }
-    std::vector<std::uint32_t> children{b.first, b.second};
+    std::vector<std::uint32_t> children = b.count > 0 ? std::vector{at} : std::vector{b.first, b.second};
     while (children.size() < 4) {
       auto widest = children.end();
       for (auto c = children.begin(); c != children.end(); ++c)
@@ -155,7 +155,8 @@ MeshDistance::MeshDistance(const TriangleMesh& mesh) : mesh_(mesh) {
     for (int k = 0; k < 4; ++k) {
       const bool used = k < static_cast<int>(children.size());
       for (int i = 0; i < 3; ++i) {
-        const double lo = used ? binary[children[k]].lo[i] : INFINITY, hi = used ? binary[children[k]].hi[i] : -INFINITY;
+        const double lo = used ? binary[children[k]].lo[i] : INFINITY;
+        const double hi = used ? binary[children[k]].hi[i] : -INFINITY;
         d.nodes[index].lo[i][k] = lo;
         d.nodes[index].hi[i][k] = hi;
         float flo = static_cast<float>(lo), fhi = static_cast<float>(hi);
@@ -164,13 +165,13 @@ MeshDistance::MeshDistance(const TriangleMesh& mesh) : mesh_(mesh) {
         single_.nodes[index].lo[i][k] = flo;
         single_.nodes[index].hi[i][k] = fhi;
       }
-      const std::uint32_t child = used ? self(self, children[k]) : 0;
+      const std::uint32_t child = used ? self(self, children[k], false) : 0;
       d.nodes[index].child[k] = child;
       single_.nodes[index].child[k] = child;
     }
     return index;
   };
-  collapse(collapse, 0);
+  collapse(collapse, 0, true);
   double_ = std::move(d);
 }
 

@@ -140,6 +140,7 @@ TEST(MeshNode, SearchFindsExactlyTheBruteForceClosestTriangle) {
   // closer triangle behind, shows here as a distance2 differing from the minimum over all triangles.
   auto all_cases = cases();
   all_cases.push_back({"icosphere(1,4)", meshes::icosphere(1, 4)});  // the mesh-icosphere scene's
+  all_cases.push_back({"bipyramid", meshes::uv_sphere(1, 2, 3)});     // six triangles: a single leaf
   for (const auto& c : all_cases) {
     const MeshDistance md(validation::to_triangle_mesh(c.mesh.mesh));
     std::vector<dvec3> points = samples(md, 1000, 5);
@@ -172,7 +173,8 @@ TEST(MeshNode, SearchFindsExactlyTheBruteForceClosestTriangle) {
       wrong_float += !same_as_brute_force(md, glm::vec3(p));
       const double expected = *ref.signed_distance(p);
       if (std::abs(expected) > tol_float)
-        wrong_sign += (md.signed_distance(p) < 0) != (expected < 0) || (md.signed_distance(glm::vec3(p)) < 0) != (expected < 0);
+        wrong_sign += (md.signed_distance(p) < 0) != (expected < 0) ||
+                      (md.signed_distance(glm::vec3(p)) < 0) != (expected < 0);
     }
     EXPECT_EQ(wrong_double, 0) << c.name << " of " << points.size();
     EXPECT_EQ(wrong_float, 0) << c.name << " of " << points.size();
