@@ -82,8 +82,7 @@ void run_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int
     if (level == 0) return const_cast<T*>(axis == 0 ? x : axis == 1 ? y : z);  // only read
     return axis == 0 ? s.x[level] : axis == 1 ? s.y[level] : s.z[level];
   };
-  for (size_t at = 0; at < tape.code.size(); ++at) {
-    const Instr& in = tape.code[at];
+  for (const Instr& in : tape.code) {
     const std::uint32_t a = in.arg;
     if constexpr (WithMaterial) {
       // A vectorised primitive pushes a value whose material is its own (lane-by-lane ones set theirs).
@@ -201,25 +200,6 @@ void run_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int
           for (int i = 0; i < n; ++i) s.m[vt][i] = in.material;
         break;
       case TapeOp::p_translate:
-        if (at + 2 < tape.code.size() && tape.code[at + 1].op == TapeOp::sphere &&
-            tape.code[at + 2].op == TapeOp::p_pop) {
-          // A translated sphere in one loop: the moved point is never stored (the three instructions' expressions).
-          const Instr& sphere = tape.code[at + 1];
-          if constexpr (WithMaterial)
-            for (int i = 0; i < n; ++i) s.m[vt + 1][i] = sphere.material;
-          T* __restrict r = v(++vt);
-          const T k0 = k(0), k1 = k(1), k2 = k(2), radius = tape.c<T>(sphere.arg);
-          for (int i = 0; i < n; ++i) {
-            const T qx = px[i] - k0, qy = py[i] - k1, qz = pz[i] - k2;
-            T d = qx * qx;
-            d += qy * qy;
-            d += qz * qz;
-            r[i] = std::sqrt(d) - radius;
-          }
-          at += 2;
-          break;
-        }
-        [[fallthrough]];
       case TapeOp::p_scale: {
         ++pt;
         T* __restrict qx = s.x[pt];
