@@ -29,6 +29,11 @@ class Cli : public ::testing::Test {
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  // The whole of a file this test's commands wrote, as bytes.
+  std::string contents(const std::string& name) const {
+    std::ifstream in(path(name), std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }
   std::filesystem::path dir_;
 };
 
@@ -47,8 +52,7 @@ TEST_F(Cli, RenderWritesTheImageAndTheStats) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(std::filesystem::exists(path("lee.png")));
   EXPECT_TRUE(std::filesystem::exists(path("lee.steps.png")));
-  std::ifstream stats(path("s.json"));
-  const std::string text((std::istreambuf_iterator<char>(stats)), {});
+  const std::string text = contents("s.json");
   for (const char* key : {"\"cost.stages.march.evals\"", "\"cost.stages.march.seconds\"", "\"cost.evals_per_pixel\""})
     EXPECT_NE(text.find(key), std::string::npos) << key;
 }
@@ -59,17 +63,14 @@ TEST_F(Cli, ExportedSceneFileRendersLikeTheBuiltin) {
   // PNG: the EXR header carries a timestamp, the PNG holds pixels only.
   ASSERT_EQ(run("render " + path("smooth.json") + " --size 48x27 -o " + path("a.png")).status, 0);
   ASSERT_EQ(run("render crum-smooth --size 48x27 -o " + path("b.png")).status, 0);
-  std::ifstream a(path("a.png"), std::ios::binary), b(path("b.png"), std::ios::binary);
-  const std::string da((std::istreambuf_iterator<char>(a)), {}), db((std::istreambuf_iterator<char>(b)), {});
-  EXPECT_EQ(da, db);
+  EXPECT_EQ(contents("a.png"), contents("b.png"));
 }
 
 TEST_F(Cli, ValidateExitsZeroOnPassOneOnAFailedCheckTwoOnBadInput) {
   const CommandRun ok = run("validate crum-torus --json " + path("v.json"));
   EXPECT_EQ(ok.status, 0) << ok.output;
   EXPECT_NE(ok.output.find("crum-torus: PASS"), std::string::npos);
-  std::ifstream json(path("v.json"));
-  const std::string text((std::istreambuf_iterator<char>(json)), {});
+  const std::string text = contents("v.json");
   EXPECT_NE(text.find("\"hit.false_hit\""), std::string::npos);
   // A scene with a mesh node: the program passes its mesh loader (mesh-icosphere, slower, is in test_validation).
   const CommandRun meshes = run("validate mesh-box");
@@ -112,8 +113,7 @@ TEST_F(Cli, ValidateShowsTheMetricsAnEstimateIsNotCheckedOn) {
   EXPECT_EQ(bulb.status, 0) << bulb.output;
   EXPECT_NE(bulb.output.find("reported, not checked"), std::string::npos) << bulb.output;
   EXPECT_NE(bulb.output.find("normal.angle_p99_deg = "), std::string::npos) << bulb.output;
-  std::ifstream json(path("bulb.json"));
-  const std::string text((std::istreambuf_iterator<char>(json)), {});
+  const std::string text = contents("bulb.json");
   EXPECT_NE(text.find("\"not_checked\": [\n        \"normal.angle_p99_deg\""), std::string::npos) << text.substr(0, 400);
 }
 
@@ -122,8 +122,7 @@ TEST_F(Cli, StabilityExitsZeroAllStableOneOnTheNaiveVariantsTwoOnAnUnwritablePat
   EXPECT_EQ(ok.status, 0) << ok.output;
   EXPECT_NE(ok.output.find("grazing.b1e-7"), std::string::npos);
   EXPECT_EQ(ok.output.find("UNSTABLE"), std::string::npos) << ok.output;
-  std::ifstream json(path("stability.json"));
-  const std::string text((std::istreambuf_iterator<char>(json)), {});
+  const std::string text = contents("stability.json");
   for (const char* key : {"\"kind\": \"stability\"", "\"criterion\"", "\"naive_variant\"", "\"lipschitz.measured\""})
     EXPECT_NE(text.find(key), std::string::npos) << key;
   const CommandRun naive = run("stability --naive");
@@ -291,8 +290,7 @@ TEST_F(Cli, AFailedWriteKeepsThePreviousFileAndLeavesNoTemporary) {
   const CommandRun image = run("render lee-flat --size 8x8 -o " + path("old.nope"));
   EXPECT_EQ(image.status, 2) << image.output;
   EXPECT_NE(image.output.find(path("old.nope") + ": no image writer"), std::string::npos) << image.output;
-  std::ifstream old(path("old.nope"));
-  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(old), {}), "previous image");
+  EXPECT_EQ(contents("old.nope"), "previous image");
   // The stats go where a non-empty folder is in the way: the rename fails, status 2, the folder is untouched.
   std::filesystem::create_directories(path("stats.json/inside"));
   const CommandRun stats = run("render lee-flat --size 8x8 -o " + path("new.png") + " --stats " + path("stats.json"));

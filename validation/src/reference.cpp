@@ -313,6 +313,11 @@ ReferenceHit placed_first_hit(const Node& n, const EscapeTimeSet& set, dvec3 o, 
 
 namespace {
 
+std::optional<EscapeTimeSet> escape_set_of(const Node& node, double time) {
+  const Node* bulb = placed_mandelbulb(node, time);
+  return bulb ? std::optional<EscapeTimeSet>(*bulb) : std::nullopt;
+}
+
 // A union the exact caster cannot take whole but each of whose parts one reference can cast (a Mandelbulb
 // beside exact shapes): the parts, whose nearest first hit is the union's.
 std::vector<Reference> referenced_union_parts(const Node& n, double time) {
@@ -365,8 +370,7 @@ Spans cast_exact(const Node& node, dvec3 origin, dvec3 direction, double time, c
 
 Reference::Reference(const Node& node, double time)
     : node_(node), time_(time), meshes_(mesh_references(node)), exact_(exact_supported(node, time)),
-      escape_set_(placed_mandelbulb(node, time) ? std::optional<EscapeTimeSet>(*placed_mandelbulb(node, time))
-                                                 : std::nullopt),
+      escape_set_(escape_set_of(node, time)),
       parts_(referenced_union_parts(node, time)),
       tape_(sdf::compile(node, time)),
       lipschitz_(sdf::derive_info(node, time).lipschitz) {}

@@ -34,13 +34,14 @@ const std::vector<DefaultLimit>& default_limits() {
       {"hit.overshoot", 0, "hits beyond the reference's first surface: the march stepped through it"},
       {"hit.undecided", 0.002, "fraction of rays that ran out of steps (neither hit nor miss)"},
       {"hit.surface_dist_over_eps", 1.05, "hit point's distance to the surface over the hit threshold there"},
-      {"normal.angle_p99_deg", 2, "99th percentile of the normal's angle error at agreed hits"},
+      {"normal.angle_p99_deg", 2, "99th percentile of the normal's angle error at agreed hits", false},
       {"shadow.false_shadow", 0.002, "fraction of lit reference points the marched shadow darkens (acne)"},
       {"shadow.false_lit", 0.002, "fraction of shadowed reference points the marched shadow lights (leaks)"},
       {"sdf.lipschitz_over_declared", 1.001, "measured Lipschitz constant over the declared one"},
       {"march.safe_step_ratio", 1.001, "measured Lipschitz constant times the marcher's step per unit of f"},
       {"sdf.overestimate_max", 1e-6, "largest |f|/L minus the true distance's upper bound (> 0: not a bound)"},
-      {"image.pixels_over", 0.02, "fraction of pixels whose colour differs from the reference render by > 0.1"},
+      {"image.pixels_over", 0.02, "fraction of pixels whose colour differs from the reference render by > 0.1",
+       false},
       {"camera.fov_err_deg", 1e-6, "field of view the rays span minus the declared one"},
       {"camera.ray_norm_err", 1e-6, "largest | |direction| - 1 | of the generated rays"},
   };
@@ -411,10 +412,7 @@ SceneResult validate_scene(const sdf::Scene& scene, const ValidateOptions& optio
     auto value = r.metrics.find(d.metric);
     if (value == r.metrics.end()) continue;  // not applicable to this scene
     auto own = scene.limits.find(d.metric);
-    const std::string_view metric = d.metric;
-    // A fractal's boundary turns within the normal stencil and within a pixel: an estimate's normals and image
-    // are reported against the set's, and checked only where the scene sets a limit.
-    if (estimate && own == scene.limits.end() && (metric.starts_with("normal.") || metric.starts_with("image."))) {
+    if (estimate && !d.checks_estimates && own == scene.limits.end()) {
       r.not_checked.push_back(d.metric);
       continue;
     }

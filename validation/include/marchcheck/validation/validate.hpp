@@ -60,6 +60,9 @@ struct DefaultLimit {
   const char* metric;
   double limit;
   const char* why;
+  // An estimate's boundary turns within the normal stencil and within a pixel: its normals and image are
+  // reported against the set's, and checked only where the scene sets a limit.
+  bool checks_estimates = true;
 };
 const std::vector<DefaultLimit>& default_limits();
 
