@@ -21,7 +21,8 @@ const dvec3 kEye(-1.1, 1.5, 2.0);  // crum-mandelbulb's camera
 
 // The estimate is 0.25 log(|w_N|^2) |w_N| / dz: negative exactly where |w_N| < 1, so its sign and the set are
 // the same thing computed by different code. (A set read as "the orbit stays within the bailout", the usual
-// escape-time picture, is larger: it disagreed with the sign at 159 of these 20000 points.)
+// escape-time picture, is larger: it disagreed with the sign at 159 of these 20000 points; that broken variant
+// fails here.)
 TEST(EscapeTimeSet, IsWhereTheEstimateIsNegative) {
   const EscapeTimeSet set(bulb());
   const sdf::Tape tape = sdf::compile(bulb());
@@ -49,7 +50,8 @@ TEST(EscapeTimeSet, EveryPointBeyondItsRadiusEscapesAtOnce) {
 // Each hit is a witness: the set starts there (within the bisection's 1e-11), and the normal points out of it,
 // as central differences of |w_N|^2 say. Eight iterations of a power-8 map have derivatives near 8^8, so the
 // difference's truncation error only settles at h = 1e-9 (measured: largest angle 22 degrees at 1e-6, 2.7 at
-// 1e-7, 0.04 at 1e-8, 0.002 at 1e-9); rounding at 1e-9 is still below 0.001 degree.
+// 1e-7, 0.04 at 1e-8, 0.002 at 1e-9); rounding at 1e-9 is still below 0.001 degree. Broken variant: the ray's
+// reverse as the normal fails.
 TEST(EscapeTimeSet, HitsAreWitnessedAndNormalsAreTheGradientOfTheFinalRadius) {
   const EscapeTimeSet set(bulb());
   std::mt19937 rng(5);
@@ -76,7 +78,7 @@ TEST(EscapeTimeSet, HitsAreWitnessedAndNormalsAreTheGradientOfTheFinalRadius) {
 }
 
 // What its resolution costs: parts of the set thinner than the sampling step are missed, so a finer step finds
-// an earlier first hit on many rays.
+// an earlier first hit on many rays (broken variant: a resolution argument that is ignored finds none).
 TEST(EscapeTimeSet, FinerSamplingFindsThinnerFilamentsFirst) {
   const EscapeTimeSet set(bulb());
   std::mt19937 rng(9);
@@ -101,7 +103,8 @@ namespace marchcheck::validation {
 namespace {
 
 // A Mandelbulb moved, turned and scaled is the same set seen through the motion: the same hit distance along
-// the same ray taken into its frame, and the normal turned back out.
+// the same ray taken into its frame, and the normal turned back out (broken variant: a normal left in the set's
+// frame fails).
 TEST(EscapeTimeSet, StandsInForAMovedTurnedAndScaledMandelbulb) {
   const double factor = 1.5;
   const glm::dvec3 offset(0.3, -0.2, 0.1), axis = glm::normalize(glm::dvec3(1, 2, 3));
@@ -142,7 +145,9 @@ namespace {
 // inside either part is inside the union.
 TEST(EscapeTimeSet, JudgesAMandelbulbBesideExactShapes) {
   const sdf::Node ground = sdf::plane({0, 1, 0}, 1.0);  // y = -1
-  const Reference both(sdf::make(sdf::Op::union_, {}, {bulb(), ground}), 0);
+  // The ground listed first: rays that meet the bulb and then the ground tell the nearer hit from the first part's
+  // (broken variant: a union answering with its first part that hits fails here).
+  const Reference both(sdf::make(sdf::Op::union_, {}, {ground, bulb()}), 0);
   const Reference plane_only(ground, 0);
   const EscapeTimeSet set(bulb());
   std::mt19937 rng(6);

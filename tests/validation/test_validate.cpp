@@ -165,7 +165,8 @@ namespace marchcheck::validation {
 namespace {
 
 // An estimate declares no distance and no Lipschitz constant: nothing of that kind is checked, what it does
-// measure is reported, and its normals and image are checked only against limits the scene sets.
+// measure is reported, and its normals and image are checked only against limits the scene sets (broken
+// variants: an estimate held to the default normal limit, or not held to the scene's, fails).
 TEST(EstimateFields, ReportWhatTheyDoNotDeclareAndCheckNormalsOnlyWhereTheSceneSaysSo) {
   sdf::Scene scene = sdf::builtin_scene("crum-mandelbulb");
   const SceneResult r = validate_scene(scene);
