@@ -57,6 +57,7 @@ class Lines {
     return false;
   }
   std::size_t number() const { return number_; }
+  std::size_t offset() const { return pos_; }  // where the next line starts
 
  private:
   std::string_view text_;
@@ -198,18 +199,121 @@ Expected preflight_off(const std::string& path, std::string_view content) {
   return {n_vertices, n_faces};
 }
 
+struct PlyProperty {
+  std::string name;
+  std::string type;        // a list's entry type
+  std::string count_type;  // a list's count type; empty for a scalar
+};
+
 struct PlyElement {
   std::string name;
   std::uint64_t count = 0;
-  std::vector<std::string> properties;  // names; lists have their name too
-  std::vector<bool> is_list;
+  std::vector<PlyProperty> properties;
 };
 
-bool ply_type(std::string_view type) {
-  for (const char* known : {"char", "uchar", "short", "ushort", "int", "uint", "float", "double", "int8", "uint8",
-                            "int16", "uint16", "int32", "uint32", "float32", "float64"})
-    if (type == known) return true;
-  return false;
+// Bytes a binary PLY value of this type takes; 0 for a name that is not a PLY type.
+std::size_t ply_size(std::string_view type) {
+  for (const auto& [name, size] : std::initializer_list<std::pair<std::string_view, std::size_t>>{
+           {"char", 1}, {"uchar", 1}, {"int8", 1}, {"uint8", 1}, {"short", 2}, {"ushort", 2}, {"int16", 2},
+           {"uint16", 2}, {"int", 4}, {"uint", 4}, {"int32", 4}, {"uint32", 4}, {"float", 4}, {"float32", 4},
+           {"double", 8}, {"float64", 8}})
+    if (type == name) return size;
+  return 0;
+}
+
+bool ply_is_float(std::string_view type) {
+  return type == "float" || type == "float32" || type == "double" || type == "float64";
+}
+
+// OpenMesh reads one list, a face's vertex_indices, and every other list as a single value (so a file with one
+// reads shifted); it also takes every list count as unsigned, so "-1" or a damaged binary count asks it for four
+// billion indices (fuzz_mesh_ply found that: a 2 GB allocation).
+bool ply_is_face_indices(const PlyElement& element, const PlyProperty& property) {
+  return element.name == "face" && (property.name == "vertex_indices" || property.name == "vertex_index");
+}
+
+// OpenMesh reads ASCII PLY as one stream of words, so each element's line must hold exactly the values its
+// properties describe, each a number of its type (a "1.5" read as an integer leaves ".5" as the next value).
+void check_ply_ascii(const std::string& path, const std::vector<PlyElement>& elements, Lines& lines) {
+  std::vector<std::string_view> tokens;
+  for (const PlyElement& element : elements) {
+    if (element.properties.empty()) continue;  // takes no words
+    for (std::uint64_t i = 0; i < element.count; ++i) {
+      if (!lines.next_tokens(tokens, false))
+        fail(path, "the file ends after " + std::to_string(i) + " of " + std::to_string(element.count) + " " +
+                       element.name + " elements (truncated?)");
+      const std::string where = line_no(lines.number()) + element.name + " " + std::to_string(i);
+      std::size_t next = 0;
+      const auto take = [&](const PlyProperty& property, const std::string& type) {
+        if (next >= tokens.size()) fail(path, where + " is incomplete: '" + property.name + "' is missing");
+        const std::string_view token = tokens[next++];
+        if (ply_is_float(type)) {
+          if (const std::string problem = coordinate_problem(token); !problem.empty())
+            fail(path, where + ": " + property.name + " value " + problem.substr(problem.find('\'')));
+          return std::uint64_t{0};
+        }
+        std::int64_t value = 0;
+        if (!parse_int(token, value))
+          fail(path, where + ": '" + property.name + "' value '" + std::string(token.substr(0, 40)) +
+                         "' is not a whole number");
+        return static_cast<std::uint64_t>(std::max<std::int64_t>(value, 0));
+      };
+      for (const PlyProperty& property : element.properties) {
+        if (property.count_type.empty()) {
+          take(property, property.type);
+          continue;
+        }
+        const std::string_view count_token = next < tokens.size() ? tokens[next] : std::string_view();
+        const std::uint64_t count = take(property, property.count_type);
+        if (count_token.starts_with('-') || count > tokens.size() - next)
+          fail(path, where + ": the list '" + property.name + "' announces " + std::string(count_token) +
+                         " values but the line holds " + std::to_string(tokens.size() - next));
+        for (std::uint64_t k = 0; k < count; ++k) take(property, property.type);
+      }
+      if (next != tokens.size())
+        fail(path, where + " has " + std::to_string(tokens.size()) + " values; its properties describe " +
+                       std::to_string(next));
+    }
+  }
+}
+
+std::uint64_t read_uint(const char* bytes, std::size_t size, bool big_endian) {
+  std::uint64_t value = 0;
+  for (std::size_t k = 0; k < size; ++k)
+    value = (value << 8) | static_cast<unsigned char>(bytes[big_endian ? k : size - 1 - k]);
+  return value;
+}
+
+// Walks the binary body: every element must fit in the file, and every list count must be one OpenMesh reads
+// as the same number (a signed count's sign bit set would be four billion to it).
+void check_ply_binary(const std::string& path, const std::vector<PlyElement>& elements, std::string_view body,
+                      bool big_endian) {
+  std::size_t at = 0;
+  const auto truncated = [&](const PlyElement& element, std::uint64_t i) {
+    fail(path, "the binary data ends inside " + element.name + " " + std::to_string(i) + " of " +
+                   std::to_string(element.count) + " (truncated?)");
+  };
+  for (const PlyElement& element : elements) {
+    for (std::uint64_t i = 0; i < element.count; ++i) {
+      for (const PlyProperty& property : element.properties) {
+        const std::size_t size = ply_size(property.type);
+        if (property.count_type.empty()) {
+          if (body.size() - at < size) truncated(element, i);
+          at += size;
+          continue;
+        }
+        const std::size_t count_size = ply_size(property.count_type);
+        if (body.size() - at < count_size) truncated(element, i);
+        const std::uint64_t count = read_uint(body.data() + at, count_size, big_endian);
+        at += count_size;
+        if (!property.count_type.starts_with('u') && (count >> (8 * count_size - 1)) != 0)
+          fail(path, element.name + " " + std::to_string(i) + ": the list '" + property.name +
+                         "' has a negative count");
+        if (count > (body.size() - at) / size) truncated(element, i);
+        at += count * size;
+      }
+    }
+  }
 }
 
 Expected preflight_ply(const std::string& path, std::string_view content) {
@@ -220,14 +324,16 @@ Expected preflight_ply(const std::string& path, std::string_view content) {
     fail(path, "not a PLY file: the first line is not 'ply'");
   std::string format;
   std::vector<PlyElement> elements;
+  std::string_view previous;  // the header line before end_header, to see where OpenMesh puts the binary body
   bool end_header = false;
   while (!end_header && lines.next(line)) {
     tokens = split(line);
-    if (tokens.empty() || tokens[0] == "comment" || tokens[0] == "obj_info") continue;
     const std::string where = line_no(lines.number());
     // OpenMesh reads the header word by word: a line one word short shifts everything after it (a list
     // property without a name swallows end_header, and the reader then loops forever at the end of the file).
-    if (tokens[0] == "format" && tokens.size() == 3) {
+    // It reads an obj_info line's words as keywords, so they must not be there.
+    if (tokens.empty() || tokens[0] == "comment") {
+    } else if (tokens[0] == "format" && tokens.size() == 3) {
       // OpenMesh reads the version as a float; one that does not parse (fuzzing found "\xb1.0") leaves its
       // stream failed and its header loop spinning forever.
       double version = 0;
@@ -236,20 +342,32 @@ Expected preflight_ply(const std::string& path, std::string_view content) {
         fail(path, where + "PLY version '" + std::string(tokens[2].substr(0, 20)) + "' is not 1.0");
       format = tokens[1];
     } else if (tokens[0] == "element" && tokens.size() == 3) {
-      PlyElement element{std::string(tokens[1]), 0, {}, {}};
+      PlyElement element{std::string(tokens[1]), 0, {}};
       if (!parse_int(tokens[2], element.count))
         fail(path, where + "element count '" + std::string(tokens[2]) + "' is not a count");
       elements.push_back(element);
-    } else if (tokens[0] == "property" && !elements.empty() &&
-               ((tokens.size() == 3 && ply_type(tokens[1])) ||
-                (tokens.size() == 5 && tokens[1] == "list" && ply_type(tokens[2]) && ply_type(tokens[3])))) {
-      elements.back().properties.emplace_back(tokens.back());
-      elements.back().is_list.push_back(tokens.size() == 5);
+    } else if (tokens[0] == "property" && !elements.empty() && tokens.size() == 3 && ply_size(tokens[1]) != 0) {
+      elements.back().properties.push_back({std::string(tokens[2]), std::string(tokens[1]), {}});
+    } else if (tokens[0] == "property" && !elements.empty() && tokens.size() == 5 && tokens[1] == "list" &&
+               ply_size(tokens[2]) != 0 && ply_size(tokens[3]) != 0) {
+      PlyElement& element = elements.back();
+      element.properties.push_back({std::string(tokens[4]), std::string(tokens[3]), std::string(tokens[2])});
+      if (!ply_is_face_indices(element, element.properties.back()))
+        fail(path, where + "the list property '" + std::string(tokens[4]) + "' of element '" + element.name +
+                       "' is not supported (OpenMesh reads only a face's vertex_indices list)");
+      // OpenMesh fails on any other count type, and reads nothing for a float index (shifting what follows).
+      if (tokens[2] != "uchar" && tokens[2] != "uint8" && tokens[2] != "uint16" && tokens[2] != "int")
+        fail(path, where + "list count type '" + std::string(tokens[2]) +
+                       "' is not supported (OpenMesh reads uchar, uint8, uint16 or int)");
+      if (ply_is_float(tokens[3]))
+        fail(path, where + "vertex indices of type '" + std::string(tokens[3]) + "' are not whole numbers");
     } else if (tokens[0] == "end_header" && tokens.size() == 1) {
       end_header = true;
+      continue;
     } else {
       fail(path, where + "malformed PLY header line '" + std::string(line.substr(0, 60)) + "'");
     }
+    previous = line;
   }
   if (!end_header) fail(path, "the PLY header has no end_header (truncated or not a PLY file)");
   if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
@@ -264,32 +382,41 @@ Expected preflight_ply(const std::string& path, std::string_view content) {
   if (total > content.size())
     fail(path, "the header announces " + std::to_string(total) + " elements, more than the file's " +
                    std::to_string(content.size()) + " bytes can hold");
-  if (format != "ascii") return expected;
   for (const PlyElement& element : elements) {
-    // Coordinates are checked where x, y, z come before any list property (the usual layout).
-    std::vector<std::size_t> xyz;
-    if (element.name == "vertex") {
-      for (const char* axis : {"x", "y", "z"}) {
-        const auto it = std::find(element.properties.begin(), element.properties.end(), axis);
-        const auto k = static_cast<std::size_t>(it - element.properties.begin());
-        if (it == element.properties.end())
-          fail(path, "the vertex element has no '" + std::string(axis) + "' property");
-        if (std::find(element.is_list.begin(), element.is_list.begin() + static_cast<std::ptrdiff_t>(k), true) ==
-            element.is_list.begin() + static_cast<std::ptrdiff_t>(k))
-          xyz.push_back(k);
-      }
-    }
-    for (std::uint64_t i = 0; i < element.count; ++i) {
-      if (!lines.next_tokens(tokens, false))
-        fail(path, "the file ends after " + std::to_string(i) + " of " + std::to_string(element.count) + " " +
-                       element.name + " elements (truncated?)");
-      for (const std::size_t k : xyz) {
-        if (k >= tokens.size()) fail(path, line_no(lines.number()) + "vertex " + std::to_string(i) + " is incomplete");
-        if (const std::string problem = coordinate_problem(tokens[k]); !problem.empty())
-          fail(path, line_no(lines.number()) + "vertex " + std::to_string(i) + ": " + problem);
-      }
-    }
+    if (element.name != "vertex") continue;
+    for (const char* axis : {"x", "y", "z"})
+      if (std::none_of(element.properties.begin(), element.properties.end(),
+                       [&](const PlyProperty& p) { return p.name == axis; }))
+        fail(path, "the vertex element has no '" + std::string(axis) + "' property");
   }
+  if (format == "ascii") {
+    check_ply_ascii(path, elements, lines);
+    return expected;
+  }
+  // OpenMesh finds the binary body 12 bytes after the end of the last word before end_header (14 after CRLF):
+  // anything but "LAST_WORD\nend_header\n" (a comment, a blank line or a trailing space before end_header) puts
+  // it off by a few bytes and every value after shifted.
+  const std::size_t line_start = static_cast<std::size_t>(line.data() - content.data());
+  const std::size_t body = std::min(lines.offset(), content.size());
+  const std::string_view newline = content.substr(line_start + line.size(), body - line_start - line.size());
+  const std::size_t previous_end = static_cast<std::size_t>(previous.data() - content.data()) + previous.size();
+  const std::vector<std::string_view> previous_tokens = split(previous);
+  if (line != "end_header" || previous_tokens.empty() || previous_tokens[0] == "comment" ||
+      std::isspace(static_cast<unsigned char>(previous.back())) ||
+      content.substr(previous_end, line_start - previous_end) != newline)
+    fail(path, line_no(lines.number()) + "a binary PLY header must end with 'end_header' on the line right after "
+                                         "the last element or property line, with no spaces or comment between "
+                                         "(OpenMesh misplaces the binary data otherwise)");
+  // OpenMesh's binary reader reads positions, normals and texture coordinates only as floats: from an integer
+  // property it reads nothing, and every later value shifts.
+  for (const PlyElement& element : elements)
+    for (const PlyProperty& property : element.properties)
+      if (element.name == "vertex" && !ply_is_float(property.type) &&
+          std::ranges::count(std::initializer_list<std::string_view>{"x", "y", "z", "nx", "ny", "nz", "u", "v", "s", "t"},
+                             property.name) != 0)
+        fail(path, "the vertex property '" + property.name + "' is '" + property.type +
+                       "'; a binary PLY must store it as float or double");
+  check_ply_binary(path, elements, content.substr(body), format == "binary_big_endian");
   return expected;
 }
 

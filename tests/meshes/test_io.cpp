@@ -311,7 +311,7 @@ TEST(LoadMesh, PlyDefects) {
   write_bytes(path, header + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   EXPECT_EQ(load_mesh(path).triangles.size(), 1u);
   write_bytes(path, header + "0 0 nan\n1 0 0\n0 1 0\n3 0 1 2\n");
-  expect_load_error(path, "line 10: vertex 0: coordinate 'nan' is not finite");
+  expect_load_error(path, "line 10: vertex 0: z value 'nan' is not finite");
   write_bytes(path, header + "0 0 0\n1 0 1e50\n0 1 0\n3 0 1 2\n");  // OpenMesh would clamp to FLT_MAX
   expect_load_error(path, "beyond the float range");
   write_bytes(path, header + "0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n");
@@ -331,6 +331,37 @@ TEST(LoadMesh, PlyDefects) {
   write_bytes(path, bad_version + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   expect_load_error(path, "line 2: PLY version '2.0' is not 1.0");
 
+  // OpenMesh reads ASCII PLY as one stream of words and takes a list count as unsigned: a count the line does not
+  // hold made it push indices until memory ran out (fuzz_mesh_ply: a 2 GB allocation), and a value too many or
+  // too few shifts every later one.
+  const std::string vertices = "0 0 0\n1 0 0\n0 1 0\n";
+  write_bytes(path, header + vertices + "4294967295 0 1 2\n");
+  expect_load_error(path, "line 13: face 0: the list 'vertex_indices' announces 4294967295 values but the line holds 3");
+  write_bytes(path, header + vertices + "-1 0 1 2\n");
+  expect_load_error(path, "the list 'vertex_indices' announces -1 values");
+  write_bytes(path, header + vertices + "3 0 1 2 7\n");
+  expect_load_error(path, "line 13: face 0 has 5 values; its properties describe 4");
+  write_bytes(path, header + "0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_load_error(path, "line 10: vertex 0 is incomplete: 'z' is missing");
+  write_bytes(path, header + vertices + "3 0 1.5 2\n");
+  expect_load_error(path, "line 13: face 0: 'vertex_indices' value '1.5' is not a whole number");
+  const auto with_face_properties = [&](const std::string& properties) {
+    std::string changed = header;
+    changed.replace(changed.find("property list"), std::string("property list uchar int vertex_indices\n").size(),
+                    properties);
+    return changed;
+  };
+  write_bytes(path, with_face_properties("property list uchar int vertex_indices\nproperty uchar red\n") + vertices +
+                        "3 0 1 2 255\n");
+  EXPECT_EQ(load_mesh(path).triangles.size(), 1u);
+  write_bytes(path, with_face_properties("property list uchar int vertex_indices\nproperty list uchar float uv\n") +
+                        vertices + "3 0 1 2 0\n");
+  expect_load_error(path, "line 9: the list property 'uv' of element 'face' is not supported");
+  write_bytes(path, with_face_properties("property list uint int vertex_indices\n") + vertices + "3 0 1 2\n");
+  expect_load_error(path, "line 8: list count type 'uint' is not supported");
+  write_bytes(path, with_face_properties("property list uchar float vertex_indices\n") + vertices + "3 0 1 2\n");
+  expect_load_error(path, "line 8: vertex indices of type 'float' are not whole numbers");
+
   // Binary: NaN and truncation are caught after OpenMesh has read the file.
   Mesh m = box({1, 1, 1}).mesh;
   save_mesh(m, path);
@@ -339,11 +370,28 @@ TEST(LoadMesh, PlyDefects) {
   in.close();
   const std::size_t body = bytes.find("end_header\n") + 11;
   const float nan = std::nanf("");
-  std::memcpy(&bytes[body + 4 * 4], &nan, 4);  // vertex 1, y
-  write_bytes(path, bytes);
+  std::string with_nan = bytes;
+  std::memcpy(&with_nan[body + 4 * 4], &nan, 4);  // vertex 1, y
+  write_bytes(path, with_nan);
   expect_load_error(path, "vertex 1 has a NaN or infinite coordinate");
-  write_bytes(path, bytes.substr(0, bytes.size() - 20));
-  expect_load_error(path, "OpenMesh cannot read it as PLY");
+  write_bytes(path, bytes.substr(0, bytes.size() - 20));  // the last face (13 bytes) and 7 of the one before
+  expect_load_error(path, "the binary data ends inside face 10 of 12 (truncated?)");
+  // A damaged list count: OpenMesh would read 255 indices, past the end of the file.
+  std::string damaged = bytes;
+  damaged[bytes.size() - 13] = '\xff';  // the last face is a uchar count and three 4-byte indices
+  write_bytes(path, damaged);
+  expect_load_error(path, "the binary data ends inside face 11 of 12");
+  // OpenMesh places the binary body 12 bytes after the last word before end_header, so a comment there would
+  // shift every value by a byte.
+  std::string commented = bytes;
+  commented.insert(commented.find("end_header"), "comment x\n");
+  write_bytes(path, commented);
+  expect_load_error(path, "a binary PLY header must end with 'end_header' on the line right after");
+  // CRLF throughout the header is what OpenMesh expects too.
+  std::string crlf = bytes.substr(0, body);
+  for (std::size_t at = crlf.find('\n'); at != std::string::npos; at = crlf.find('\n', at + 2)) crlf.insert(at, "\r");
+  write_bytes(path, crlf + bytes.substr(body));
+  EXPECT_EQ(load_mesh(path).triangles.size(), 12u);
 }
 
 TEST(LoadMesh, StlDefects) {
