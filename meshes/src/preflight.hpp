@@ -1,8 +1,9 @@
 // Our own scan of a mesh file before OpenMesh parses it. OpenMesh 9 is silent about several defects: its OBJ
 // reader drops vertex lines it cannot parse (shifting every later index), its OFF and ASCII PLY readers read
 // zeros after a "nan" and carry on, ASCII PLY clamps 1e50 to FLT_MAX, the STL readers turn NaN into a merged or
-// zero vertex, a truncated OFF repeats its last face, and huge header counts go straight into reserve(). The
-// scan names the line and the problem; what it cannot see (binary PLY/OFF) the checks after reading catch.
+// zero vertex, a truncated OFF repeats its last face, huge header counts go straight into reserve(), and a PLY
+// list count the file does not hold has it push indices until memory runs out. The scan names the line and the
+// problem; what it does not look at (binary PLY values, binary STL normals) the checks after reading catch.
 #pragma once
 
 #include "openmesh_io.hpp"
