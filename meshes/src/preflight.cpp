@@ -203,6 +203,7 @@ struct PlyProperty {
   std::string name;
   std::string type;        // a list's entry type
   std::string count_type;  // a list's count type; empty for a scalar
+  std::size_t line = 0;
 };
 
 struct PlyElement {
@@ -232,6 +233,42 @@ bool ply_is_face_indices(const PlyElement& element, const PlyProperty& property)
   return element.name == "face" && (property.name == "vertex_indices" || property.name == "vertex_index");
 }
 
+bool ply_is_colour(const PlyElement& element, const PlyProperty& property) {
+  const std::string_view name = property.name;
+  return (element.name == "vertex" || element.name == "face") &&
+         (name == "red" || name == "green" || name == "blue" || name == "alpha" ||
+          (element.name == "vertex" && (name == "diffuse_red" || name == "diffuse_green" || name == "diffuse_blue")));
+}
+
+// What OpenMesh 9 would misread in this property, or empty. Misreading one value shifts every later one, and a
+// shifted binary list count can be anything up to four billion.
+std::string ply_property_problem(const PlyElement& element, const PlyProperty& property, bool binary) {
+  const std::string quoted = "'" + property.name + "'";
+  if (ply_size(property.name) != 0)  // OpenMesh takes the type from whichever of the two words is a type name
+    return "a property named " + quoted + " (a type name) is not supported";
+  if (!property.count_type.empty()) {
+    if (!ply_is_face_indices(element, property))
+      return "the list property " + quoted + " of element '" + element.name +
+             "' is not supported (OpenMesh reads only a face's vertex_indices list)";
+    if (property.count_type != "uchar" && property.count_type != "uint8" && property.count_type != "uint16" &&
+        property.count_type != "int")  // OpenMesh fails on any other
+      return "list count type '" + property.count_type + "' is not supported (OpenMesh reads uchar, uint8, uint16 or int)";
+    if (ply_is_float(property.type)) return "vertex indices of type '" + property.type + "' are not whole numbers";
+  }
+  // OpenMesh reads a colour either as float or as an integer, so a double one is read as an integer: nothing
+  // from binary, and from ASCII only up to the decimal point.
+  if (ply_is_colour(element, property) && ply_is_float(property.type) && ply_size(property.type) == 8)
+    return "the colour property " + quoted + " of type '" + property.type +
+           "' is not supported (OpenMesh reads colours as float or integer)";
+  // OpenMesh's binary reader reads positions, normals and texture coordinates only as floats: from an integer
+  // it reads nothing.
+  static constexpr std::string_view kFloatOnly[] = {"x", "y", "z", "nx", "ny", "nz", "u", "v", "s", "t"};
+  if (binary && element.name == "vertex" && !ply_is_float(property.type) &&
+      std::ranges::find(kFloatOnly, std::string_view(property.name)) != std::end(kFloatOnly))
+    return "the vertex property " + quoted + " is '" + property.type + "'; a binary PLY must store it as float or double";
+  return {};
+}
+
 // OpenMesh reads ASCII PLY as one stream of words, so each element's line must hold exactly the values its
 // properties describe, each a number of its type (a "1.5" read as an integer leaves ".5" as the next value).
 void check_ply_ascii(const std::string& path, const std::vector<PlyElement>& elements, Lines& lines) {
@@ -256,6 +293,11 @@ void check_ply_ascii(const std::string& path, const std::vector<PlyElement>& ele
         if (!parse_int(token, value))
           fail(path, where + ": '" + property.name + "' value '" + std::string(token.substr(0, 40)) +
                          "' is not a whole number");
+        // What OpenMesh reads into an int (colours) or an unsigned (the list): beyond that its stream fails and
+        // every later value reads as zero.
+        const std::int64_t most = property.count_type.empty() ? INT32_MAX : UINT32_MAX;
+        if ((ply_is_colour(element, property) || !property.count_type.empty()) && (value < INT32_MIN || value > most))
+          fail(path, where + ": '" + property.name + "' value '" + std::string(token) + "' is out of range");
         return static_cast<std::uint64_t>(std::max<std::int64_t>(value, 0));
       };
       for (const PlyProperty& property : element.properties) {
@@ -331,7 +373,7 @@ Expected preflight_ply(const std::string& path, std::string_view content) {
     const std::string where = line_no(lines.number());
     // OpenMesh reads the header word by word: a line one word short shifts everything after it (a list
     // property without a name swallows end_header, and the reader then loops forever at the end of the file).
-    // It reads an obj_info line's words as keywords, so they must not be there.
+    // It would read an obj_info line's words as keywords: those lines are malformed here.
     if (tokens.empty() || tokens[0] == "comment") {
     } else if (tokens[0] == "format" && tokens.size() == 3) {
       // OpenMesh reads the version as a float; one that does not parse (fuzzing found "\xb1.0") leaves its
@@ -345,22 +387,17 @@ Expected preflight_ply(const std::string& path, std::string_view content) {
       PlyElement element{std::string(tokens[1]), 0, {}};
       if (!parse_int(tokens[2], element.count))
         fail(path, where + "element count '" + std::string(tokens[2]) + "' is not a count");
+      // OpenMesh reads every face element with the last one's count and keeps only the last vertex count.
+      if ((element.name == "vertex" || element.name == "face") &&
+          std::ranges::any_of(elements, [&](const PlyElement& e) { return e.name == element.name; }))
+        fail(path, where + "a second '" + element.name + "' element");
       elements.push_back(element);
     } else if (tokens[0] == "property" && !elements.empty() && tokens.size() == 3 && ply_size(tokens[1]) != 0) {
-      elements.back().properties.push_back({std::string(tokens[2]), std::string(tokens[1]), {}});
+      elements.back().properties.push_back({std::string(tokens[2]), std::string(tokens[1]), {}, lines.number()});
     } else if (tokens[0] == "property" && !elements.empty() && tokens.size() == 5 && tokens[1] == "list" &&
                ply_size(tokens[2]) != 0 && ply_size(tokens[3]) != 0) {
-      PlyElement& element = elements.back();
-      element.properties.push_back({std::string(tokens[4]), std::string(tokens[3]), std::string(tokens[2])});
-      if (!ply_is_face_indices(element, element.properties.back()))
-        fail(path, where + "the list property '" + std::string(tokens[4]) + "' of element '" + element.name +
-                       "' is not supported (OpenMesh reads only a face's vertex_indices list)");
-      // OpenMesh fails on any other count type, and reads nothing for a float index (shifting what follows).
-      if (tokens[2] != "uchar" && tokens[2] != "uint8" && tokens[2] != "uint16" && tokens[2] != "int")
-        fail(path, where + "list count type '" + std::string(tokens[2]) +
-                       "' is not supported (OpenMesh reads uchar, uint8, uint16 or int)");
-      if (ply_is_float(tokens[3]))
-        fail(path, where + "vertex indices of type '" + std::string(tokens[3]) + "' are not whole numbers");
+      elements.back().properties.push_back(
+          {std::string(tokens[4]), std::string(tokens[3]), std::string(tokens[2]), lines.number()});
     } else if (tokens[0] == "end_header" && tokens.size() == 1) {
       end_header = true;
       continue;
@@ -382,6 +419,10 @@ Expected preflight_ply(const std::string& path, std::string_view content) {
   if (total > content.size())
     fail(path, "the header announces " + std::to_string(total) + " elements, more than the file's " +
                    std::to_string(content.size()) + " bytes can hold");
+  for (const PlyElement& element : elements)
+    for (const PlyProperty& property : element.properties)
+      if (const std::string problem = ply_property_problem(element, property, format != "ascii"); !problem.empty())
+        fail(path, line_no(property.line) + problem);
   for (const PlyElement& element : elements) {
     if (element.name != "vertex") continue;
     for (const char* axis : {"x", "y", "z"})
@@ -407,15 +448,6 @@ Expected preflight_ply(const std::string& path, std::string_view content) {
     fail(path, line_no(lines.number()) + "a binary PLY header must end with 'end_header' on the line right after "
                                          "the last element or property line, with no spaces or comment between "
                                          "(OpenMesh misplaces the binary data otherwise)");
-  // OpenMesh's binary reader reads positions, normals and texture coordinates only as floats: from an integer
-  // property it reads nothing, and every later value shifts.
-  for (const PlyElement& element : elements)
-    for (const PlyProperty& property : element.properties)
-      if (element.name == "vertex" && !ply_is_float(property.type) &&
-          std::ranges::count(std::initializer_list<std::string_view>{"x", "y", "z", "nx", "ny", "nz", "u", "v", "s", "t"},
-                             property.name) != 0)
-        fail(path, "the vertex property '" + property.name + "' is '" + property.type +
-                       "'; a binary PLY must store it as float or double");
   check_ply_binary(path, elements, content.substr(body), format == "binary_big_endian");
   return expected;
 }

@@ -361,6 +361,20 @@ TEST(LoadMesh, PlyDefects) {
   expect_load_error(path, "line 8: list count type 'uint' is not supported");
   write_bytes(path, with_face_properties("property list uchar float vertex_indices\n") + vertices + "3 0 1 2\n");
   expect_load_error(path, "line 8: vertex indices of type 'float' are not whole numbers");
+  // OpenMesh takes the type from whichever word is a type name, reads a double colour as an integer, and reads
+  // every face element with the last one's count: each would shift the values after it.
+  write_bytes(path, with_face_properties("property list uchar int vertex_indices\nproperty int float\n") + vertices +
+                        "3 0 1 2 7\n");
+  expect_load_error(path, "line 9: a property named 'float' (a type name) is not supported");
+  write_bytes(path, with_face_properties("property list uchar int vertex_indices\nproperty double red\n") + vertices +
+                        "3 0 1 2 0.5\n");
+  expect_load_error(path, "line 9: the colour property 'red' of type 'double' is not supported");
+  write_bytes(path, with_face_properties("property list uchar int vertex_indices\nproperty int red\n") + vertices +
+                        "3 0 1 2 99999999999\n");
+  expect_load_error(path, "line 14: face 0: 'red' value '99999999999' is out of range");
+  write_bytes(path, with_face_properties("property list uchar int vertex_indices\nelement face 1\n"
+                                         "property list uchar int vertex_indices\n") + vertices + "3 0 1 2\n3 0 2 1\n");
+  expect_load_error(path, "line 9: a second 'face' element");
 
   // Binary: NaN and truncation are caught after OpenMesh has read the file.
   Mesh m = box({1, 1, 1}).mesh;
@@ -387,6 +401,23 @@ TEST(LoadMesh, PlyDefects) {
   commented.insert(commented.find("end_header"), "comment x\n");
   write_bytes(path, commented);
   expect_load_error(path, "a binary PLY header must end with 'end_header' on the line right after");
+  // A negative int count is four billion to OpenMesh.
+  std::string negative = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                         "property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n";
+  const float corners[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const std::int32_t face[4] = {-1, 0, 1, 2};
+  negative.append(reinterpret_cast<const char*>(corners), sizeof corners);
+  negative.append(reinterpret_cast<const char*>(face), sizeof face);
+  write_bytes(path, negative);
+  expect_load_error(path, "face 0: the list 'vertex_indices' has a negative count");
+  negative.replace(negative.size() - 16, 4, std::string("\3\0\0\0", 4));  // the count, little-endian: 3
+  write_bytes(path, negative);
+  EXPECT_EQ(load_mesh(path).triangles.size(), 1u);
+  std::string integer_x = negative;
+  integer_x.replace(integer_x.find("float x"), 7, "int x");
+  integer_x.replace(integer_x.find("end_header\n") + 11, 4, std::string("\0\0\0\0", 4));
+  write_bytes(path, integer_x);
+  expect_load_error(path, "line 4: the vertex property 'x' is 'int'; a binary PLY must store it as float or double");
   // CRLF throughout the header is what OpenMesh expects too.
   std::string crlf = bytes.substr(0, body);
   for (std::size_t at = crlf.find('\n'); at != std::string::npos; at = crlf.find('\n', at + 2)) crlf.insert(at, "\r");
