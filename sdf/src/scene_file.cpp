@@ -752,7 +752,10 @@ Scene load_scene_file(const std::string& path, const MeshLoader& meshes) {
   if (!in) throw SceneError(path + ": cannot open the scene file");
   std::ostringstream text;
   text << in.rdbuf();
-  return scene_from_json(text.str(), path, meshes);
+  Scene scene = scene_from_json(text.str(), path, meshes);
+  // Output, result files and the report name scenes: one without a name goes by its file's.
+  if (scene.name.empty()) scene.name = std::filesystem::path(path).stem().string();
+  return scene;
 }
 
 }  // namespace marchcheck::sdf

@@ -144,6 +144,13 @@ class MeshScene : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
+TEST_F(MeshScene, AFileWithoutANameGoesByItsFileName) {
+  const std::string path = (dir_ / "unnamed part.json").string();
+  std::ofstream(path) << R"({"sdf": {"type": "sphere", "radius": 1}})";
+  EXPECT_EQ(load_scene_file(path, validation::mesh_loader()).name, "unnamed part");
+  EXPECT_EQ(load_scene_file(write("named.json", R"({"type": "sphere", "radius": 1})"), validation::mesh_loader()).name, "m");
+}
+
 TEST_F(MeshScene, ShorthandPathIsFoundBesideTheSceneFileAndRoundTrips) {
   const std::string path = write("scene.json", R"({"type": "translate", "offset": [0, 1, 0], "child": {"mesh": "notched.obj"}})");
   const Scene s = load_scene_file(path, validation::mesh_loader());
