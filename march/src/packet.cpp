@@ -205,13 +205,12 @@ void march_packet(const sdf::Tape& tape, const PacketRay<T>* rays, RayRecord<T>*
     int count = 0;
     for (int i = 0; i < m; ++i) {
       const PacketRay<T>& ray = rays[base + i];
-      if (s.marcher == Marcher::fixed || settings_bad || !(ray.max_dist > 0) ||
+      // Rare: one point at a time (with no step allowed, march() ends the ray without evaluating).
+      if (s.marcher == Marcher::fixed || settings_bad || !(0 < s.max_steps) || !(ray.max_dist > 0) ||
           detail::ray_degenerate(ray.origin, ray.direction, T(0))) {
         MarchSettings own = s;
         own.max_dist = ray.max_dist;
-        records[base + i] = march<T>(one_point, ray.origin, ray.direction, own, c);  // rare: one point at a time
-      } else if (!(0 < s.max_steps)) {
-        records[base + i] = SphereTrace<T>(s, c, T(0), static_cast<T>(ray.max_dist)).record();  // done at once
+        records[base + i] = march<T>(one_point, ray.origin, ray.direction, own, c);
       } else {
         active[count++] = i;
       }

@@ -225,26 +225,25 @@ void direct_light(const Context& ctx, LitPoints<S, N>& in) {
     const glm::vec<3, S> at(ctx.light_positions[li]), toward = -glm::normalize(glm::vec<3, S>(light.direction));
     const glm::vec<3, S> color(light.color);
     const S darkening = S(light.darkening);
-    alignas(64) S diffuse[N], base[N], specular[N], visible[N];
+    alignas(64) S diffuse[N], base[N], specular[N], visible[N], lx[N], ly[N], lz[N];  // l: toward the light
     for (int i = 0; i < n; ++i) visible[i] = S(in.visibility[i][li]);
     auto lambert_and_phong = [&](auto point_light) {
       for (int i = 0; i < n; ++i) {
-        S lx = toward.x, ly = toward.y, lz = toward.z;
+        lx[i] = toward.x, ly[i] = toward.y, lz[i] = toward.z;
         if constexpr (point_light) {
           const S dx = at.x - in.px[i], dy = at.y - in.py[i], dz = at.z - in.pz[i];
           const S inv = S(1) / std::sqrt(dot(dx, dy, dz, dx, dy, dz));
-          lx = dx * inv, ly = dy * inv, lz = dz * inv;
+          lx[i] = dx * inv, ly[i] = dy * inv, lz[i] = dz * inv;
         }
-        const S cosine = dot(in.nx[i], in.ny[i], in.nz[i], lx, ly, lz);
+        const S cosine = dot(in.nx[i], in.ny[i], in.nz[i], lx[i], ly[i], lz[i]);
         diffuse[i] = clamped ? std::clamp(cosine, floor, S(1)) : cosine;
         // Phong: dot(reflect(-l, n), to_eye), reflect(I, N) = I - N * dot(N, I) * 2.
-        const S d = dot(in.nx[i], in.ny[i], in.nz[i], -lx, -ly, -lz);
-        const S rx = -lx - in.nx[i] * d * S(2), ry = -ly - in.ny[i] * d * S(2), rz = -lz - in.nz[i] * d * S(2);
+        const S d = dot(in.nx[i], in.ny[i], in.nz[i], -lx[i], -ly[i], -lz[i]);
+        const S rx = -lx[i] - in.nx[i] * d * S(2), ry = -ly[i] - in.ny[i] * d * S(2), rz = -lz[i] - in.nz[i] * d * S(2);
         base[i] = dot(rx, ry, rz, tx[i], ty[i], tz[i]);
       }
     };
-    const bool point = light.type == sdf::LightType::point;
-    if (point) {
+    if (light.type == sdf::LightType::point) {
       lambert_and_phong(std::true_type{});
     } else {
       lambert_and_phong(std::false_type{});
@@ -252,8 +251,7 @@ void direct_light(const Context& ctx, LitPoints<S, N>& in) {
     if (any_blinn)
       for (int i = 0; i < n; ++i) {
         if (model[i] != S(2)) continue;
-        const glm::vec<3, S> l = point ? glm::normalize(at - glm::vec<3, S>(in.px[i], in.py[i], in.pz[i])) : toward;
-        const glm::vec<3, S> h = glm::normalize(l + glm::vec<3, S>(tx[i], ty[i], tz[i]));
+        const glm::vec<3, S> h = glm::normalize(glm::vec<3, S>(lx[i], ly[i], lz[i]) + glm::vec<3, S>(tx[i], ty[i], tz[i]));
         base[i] = dot(in.nx[i], in.ny[i], in.nz[i], h.x, h.y, h.z);
       }
     for (int i = 0; i < n; ++i)

@@ -65,18 +65,19 @@ class Lines {
   std::size_t number_ = 0;
 };
 
-// Empty when the token is a finite number that a float can hold (OpenMesh stores floats), else the problem.
-std::string coordinate_problem(std::string_view token) {
+// Empty when the token is a finite number that a float can hold (OpenMesh stores floats), else the problem
+// ("'TOKEN' is ...").
+std::string float_problem(std::string_view token) {
   std::string_view digits = token;
   if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
   long double value = 0;
   const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
   const std::string quoted = "'" + std::string(token) + "'";
-  if (ec == std::errc::result_out_of_range) return "coordinate " + quoted + " is out of range";
-  if (ec != std::errc() || end != digits.data() + digits.size()) return "coordinate " + quoted + " is not a number";
-  if (!std::isfinite(value)) return "coordinate " + quoted + " is not finite";
+  if (ec == std::errc::result_out_of_range) return quoted + " is out of range";
+  if (ec != std::errc() || end != digits.data() + digits.size()) return quoted + " is not a number";
+  if (!std::isfinite(value)) return quoted + " is not finite";
   if (std::fabs(value) > static_cast<long double>(FLT_MAX))
-    return "coordinate " + quoted + " is beyond the float range (OpenMesh reads floats)";
+    return quoted + " is beyond the float range (OpenMesh reads floats)";
   return {};
 }
 
@@ -90,8 +91,8 @@ void check_coordinates(const std::string& path, std::size_t line, const std::vec
                        std::size_t first, const std::string& what) {
   if (tokens.size() < first + 3) fail(path, line_no(line) + what + " has fewer than three coordinates");
   for (std::size_t k = first; k < first + 3; ++k)
-    if (const std::string problem = coordinate_problem(tokens[k]); !problem.empty())
-      fail(path, line_no(line) + what + ": " + problem);
+    if (const std::string problem = float_problem(tokens[k]); !problem.empty())
+      fail(path, line_no(line) + what + ": coordinate " + problem);
 }
 
 // "v", "v/t", "v//n" or "v/t/n" with whole-number indices (their range is checked after reading). OpenMesh's OBJ reader asserts (aborting the
@@ -285,8 +286,8 @@ void check_ply_ascii(const std::string& path, const std::vector<PlyElement>& ele
         if (next >= tokens.size()) fail(path, where + " is incomplete: '" + property.name + "' is missing");
         const std::string_view token = tokens[next++];
         if (ply_is_float(type)) {
-          if (const std::string problem = coordinate_problem(token); !problem.empty())
-            fail(path, where + ": " + property.name + " value " + problem.substr(problem.find('\'')));
+          if (const std::string problem = float_problem(token); !problem.empty())
+            fail(path, where + ": " + property.name + " value " + problem);
           return std::uint64_t{0};
         }
         std::int64_t value = 0;

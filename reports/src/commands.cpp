@@ -65,7 +65,7 @@ void print_checks(const validation::SceneResult& r, std::ostream& out) {
         << std::defaultfloat << c.value << std::setw(13) << c.limit << "  " << (c.pass ? "pass  " : "FAIL  ") << "  "
         << c.limit_source << "\n";
   if (r.not_checked.empty()) return;
-  out << "  reported, not checked (an estimate: the set's boundary turns within the normal stencil and the pixel):";
+  out << "  reported, not checked (" << validation::kNotCheckedWhy << "):";
   for (const auto& name : r.not_checked)
     out << " " << name << " = " << std::setprecision(4) << validation::metric_value(r.metrics, name);
   out << "\n";

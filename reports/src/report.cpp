@@ -475,8 +475,8 @@ class Builder {
         << escape(c.limit_source) << "</td><td class=\"l\">" << escape(c.why) << "</td></tr>\n";
     for (const auto& name : r.result.not_checked)
       h << "<tr><td class=\"l\">" << escape(name) << "</td><td>" << number(validation::metric_value(r.result.metrics, name))
-        << "</td><td>-</td><td class=\"l\">reported</td><td class=\"l\">not checked</td><td class=\"l\">an estimate: "
-           "the set's boundary turns within the normal stencil and the pixel; a scene limit checks it</td></tr>\n";
+        << "</td><td>-</td><td class=\"l\">reported</td><td class=\"l\">not checked</td><td class=\"l\">"
+        << escape(validation::kNotCheckedWhy) << "</td></tr>\n";
     h << "</table></section>\n";
   }
 

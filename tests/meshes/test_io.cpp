@@ -334,6 +334,9 @@ TEST(LoadMesh, PlyDefects) {
   // OpenMesh reads ASCII PLY as one stream of words and takes a list count as unsigned: a count the line does not
   // hold made it push indices until memory ran out (fuzz_mesh_ply: a 2 GB allocation), and a value too many or
   // too few shifts every later one.
+  // Broken variant: the scan that checked coordinates and line counts only (136dee6). Under ulimit -v 3000000 the
+  // two list counts below and the negative binary count end in std::bad_alloc, eight refusals load silently,
+  // and the comment before a binary end_header and the integer binary x come out as "face 0 has 0 vertices".
   const std::string vertices = "0 0 0\n1 0 0\n0 1 0\n";
   write_bytes(path, header + vertices + "4294967295 0 1 2\n");
   expect_load_error(path, "line 13: face 0: the list 'vertex_indices' announces 4294967295 values but the line holds 3");

@@ -144,6 +144,7 @@ class MeshScene : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
+// Broken variant: load_scene_file without the default leaves the name empty (render printed ": 32x18, ...").
 TEST_F(MeshScene, AFileWithoutANameGoesByItsFileName) {
   const std::string path = (dir_ / "unnamed part.json").string();
   std::ofstream(path) << R"({"sdf": {"type": "sphere", "radius": 1}})";

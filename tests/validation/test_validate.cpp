@@ -158,12 +158,6 @@ TEST(BrokenVariants, EachRemainingCheckCanFail) {
   }
 }
 
-}  // namespace
-}  // namespace marchcheck::validation
-
-namespace marchcheck::validation {
-namespace {
-
 // An estimate declares no distance and no Lipschitz constant: nothing of that kind is checked, what it does
 // measure is reported, and its normals and image are checked only against limits the scene sets (broken
 // variants: an estimate held to the default normal limit, or not held to the scene's, fails).

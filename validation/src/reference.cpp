@@ -309,10 +309,6 @@ ReferenceHit placed_first_hit(const Node& n, const EscapeTimeSet& set, dvec3 o, 
   }
 }
 
-}  // namespace
-
-namespace {
-
 std::optional<EscapeTimeSet> escape_set_of(const Node& node, double time) {
   const Node* bulb = placed_mandelbulb(node, time);
   return bulb ? std::optional<EscapeTimeSet>(*bulb) : std::nullopt;

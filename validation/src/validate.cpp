@@ -302,17 +302,13 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
       const dvec3 dir = glm::normalize(dvec3(g(rng), g(rng), g(rng)));
       // Any two points bound L from below: close pairs see steep slopes, wider ones see jumps (a shape crossing
       // its repetition cell) that a close pair almost never straddles.
+      const double f = sdf::evaluate(tape, p);
       for (const double h : {1e-5 * scale, 1e-2 * scale, 0.3 * scale})
-        lipschitz = std::max(lipschitz, std::abs(sdf::evaluate(tape, p + dir * h) - sdf::evaluate(tape, p)) / h);
+        lipschitz = std::max(lipschitz, std::abs(sdf::evaluate(tape, p + dir * h) - f) / h);
       if (!(ref.exact() || estimate) || rep > 1) continue;
       // Down the field's own gradient lies the nearest point of a field close to the reference's.
-      const double f = sdf::evaluate(tape, p), hg = 1e-6 * scale;
-      dvec3 grad;
-      for (int i = 0; i < 3; ++i) {
-        dvec3 e(0);
-        e[i] = hg;
-        grad[i] = sdf::evaluate(tape, p + e) - sdf::evaluate(tape, p - e);
-      }
+      const dvec3 grad =
+          march::estimate_normal(march::TapeField{&tape}, p, march::NormalMethod::central, 1e-6 * scale).n;
       NearestSurface near;
       probe_nearest(ref, p, {f > 0 ? -grad : grad}, near);
       if (near.inside || !std::isfinite(near.distance)) continue;  // the upper bound needs a point outside

@@ -65,5 +65,8 @@ struct DefaultLimit {
   bool checks_estimates = true;
 };
 const std::vector<DefaultLimit>& default_limits();
+// Why a metric is in SceneResult::not_checked, as the command line and the report say it.
+inline constexpr const char* kNotCheckedWhy =
+    "an estimate: the set's boundary turns within the normal stencil and the pixel; a scene limit checks it";
 
 }  // namespace marchcheck::validation
