@@ -4,10 +4,11 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git
   libglm-dev libcgal-dev libopenmesh-dev libgtest-dev libgmock-dev libbenchmark-dev
-  libopenimageio-dev libtbb-dev libembree-dev
+  libopenimageio-dev openimageio-tools libtbb-dev libembree-dev  # OIIO's CMake package checks its tools exist
   nlohmann-json3-dev libcli11-dev libfmt-dev
   python3 python3-matplotlib chromium  # plots and the report's browser test
   clang libclang-rt-dev  # scripts/fuzz.sh: libFuzzer and clang's sanitizer runtimes
+  strace  # .ci/run: ../shared/tools/fresh-deps replays the configure step under it
 )
 missing=()
 for p in "${packages[@]}"; do
