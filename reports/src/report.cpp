@@ -4,6 +4,7 @@
 #include "marchcheck/march/render.hpp"
 #include "marchcheck/reports/results_io.hpp"
 #include "command_support.hpp"
+#include "plot_script.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/validation/convergence.hpp"
@@ -100,7 +101,9 @@ struct SceneReport {
 void draw_plots(const fs::path& data, const fs::path& plots) {
   const char* python_env = std::getenv("MARCHCHECK_PYTHON");
   const std::string python = python_env && *python_env ? python_env : "/usr/bin/python3";
-  const std::string script = MARCHCHECK_PLOT_SCRIPT, data_dir = data.string(), plots_dir = plots.string();
+  const fs::path script_file = data / "plots.py";
+  if (!(std::ofstream(script_file) << kPlotScript)) throw ReportError(script_file.string() + ": cannot write");
+  const std::string script = script_file.string(), data_dir = data.string(), plots_dir = plots.string();
   const fs::path log = data / "plots.log";
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
