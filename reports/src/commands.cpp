@@ -55,22 +55,6 @@ void apply_size(sdf::Scene& scene, const std::string& size) {
   scene.height = h;
 }
 
-void print_checks(const validation::SceneResult& r, std::ostream& out) {
-  out << r.scene << (r.defects.empty() ? "" : "  (reproduces a seed defect)") << ": " << (r.pass() ? "PASS" : "FAIL")
-      << "\n";
-  out << "  " << std::left << std::setw(30) << "check" << std::right << std::setw(13) << "value" << std::setw(13)
-      << "limit" << "  result  limit from\n";
-  for (const auto& c : r.checks)
-    out << "  " << std::left << std::setw(30) << c.name << std::right << std::setw(13) << std::setprecision(4)
-        << std::defaultfloat << c.value << std::setw(13) << c.limit << "  " << (c.pass ? "pass  " : "FAIL  ") << "  "
-        << c.limit_source << "\n";
-  if (r.not_checked.empty()) return;
-  out << "  reported, not checked (" << validation::kNotCheckedWhy << "):";
-  for (const auto& name : r.not_checked)
-    out << " " << name << " = " << std::setprecision(4) << validation::metric_value(r.metrics, name);
-  out << "\n";
-}
-
 }  // namespace
 
 int run_scenes(const ScenesCommand& cmd, std::ostream& out, std::ostream& err) {
@@ -163,7 +147,7 @@ int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& er
   std::vector<validation::SceneResult> results;
   for (const auto& scene : scenes) {
     results.push_back(validation::validate_scene(scene));
-    print_checks(results.back(), out);
+    validation::print_checks(results.back(), out);
   }
   if (cmd.json) {
     try {

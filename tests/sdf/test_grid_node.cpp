@@ -37,12 +37,12 @@ TEST(GridNode, MeasuredSlopeExceedsOneAndStaysWithinSqrt3) {
   auto f = [&](dvec3 p) { return evaluate(tape, p); };
   const double slope = validation::measured_slope(f, dvec3(-0.7), dvec3(0.7), 40000, 1e-6);
   std::printf("grid of a box: measured slope %.6f (sqrt(3) = %.6f)\n", slope, std::sqrt(3.0));
-  EXPECT_TRUE(validation::LipschitzAtMost(f, std::sqrt(3.0), dvec3(-0.7), dvec3(0.7), 40000, 1e-6));
+  EXPECT_TRUE(validation::LipschitzAtMost(f, std::sqrt(3.0), {dvec3(-0.7), dvec3(0.7)}, 40000, 1e-6));
   // The broken declaration: a grid of an exact field called exact (L = 1) is contradicted.
-  EXPECT_FALSE(validation::LipschitzAtMost(f, 1.0, dvec3(-0.7), dvec3(0.7), 40000, 1e-6));
+  EXPECT_FALSE(validation::LipschitzAtMost(f, 1.0, {dvec3(-0.7), dvec3(0.7)}, 40000, 1e-6));
   EXPECT_GT(slope, 1.3);  // random pairs rarely land at the centre, where it reaches sqrt(3)
   // Outside the grid the value grows by the distance to it: slope at most sqrt(3) there too.
-  EXPECT_TRUE(validation::LipschitzAtMost(f, std::sqrt(3.0), dvec3(-3), dvec3(3), 20000, 1e-6));
+  EXPECT_TRUE(validation::LipschitzAtMost(f, std::sqrt(3.0), {dvec3(-3), dvec3(3)}, 20000, 1e-6));
 }
 
 TEST(GridNode, WithinHalfACellDiagonalOfAnExactChild) {

@@ -78,15 +78,15 @@ TEST(Helpers, BoundOfMeshPassesForTheSphereSdfAndFailsForAnOverestimate) {
   const auto sphere = meshes::icosphere(1.0, 4);
   const dvec3 lo(-2), hi(2);
   // The exact sphere SDF scaled by 0.9 is a bound (within the chord error of the mesh).
-  EXPECT_TRUE(IsBoundOfMesh([](dvec3 p) { return 0.9 * (glm::length(p) - 1); }, sphere.mesh, lo, hi, sphere.max_error));
-  EXPECT_FALSE(IsBoundOfMesh([](dvec3 p) { return 2 * (glm::length(p) - 1); }, sphere.mesh, lo, hi, sphere.max_error));
-  EXPECT_FALSE(IsBoundOfMesh([](dvec3 p) { return 1 - glm::length(p); }, sphere.mesh, lo, hi, sphere.max_error))
+  EXPECT_TRUE(IsBoundOfMesh([](dvec3 p) { return 0.9 * (glm::length(p) - 1); }, sphere.mesh, {lo, hi}, sphere.max_error));
+  EXPECT_FALSE(IsBoundOfMesh([](dvec3 p) { return 2 * (glm::length(p) - 1); }, sphere.mesh, {lo, hi}, sphere.max_error));
+  EXPECT_FALSE(IsBoundOfMesh([](dvec3 p) { return 1 - glm::length(p); }, sphere.mesh, {lo, hi}, sphere.max_error))
       << "flipped sign";
 }
 
 TEST(Helpers, LipschitzAtMostCatchesASteepField) {
-  EXPECT_TRUE(LipschitzAtMost([](dvec3 p) { return glm::length(p) - 1; }, 1.0, dvec3(-2), dvec3(2)));
-  EXPECT_FALSE(LipschitzAtMost([](dvec3 p) { return 1.5 * (glm::length(p) - 1); }, 1.0, dvec3(-2), dvec3(2)));
+  EXPECT_TRUE(LipschitzAtMost([](dvec3 p) { return glm::length(p) - 1; }, 1.0, {dvec3(-2), dvec3(2)}));
+  EXPECT_FALSE(LipschitzAtMost([](dvec3 p) { return 1.5 * (glm::length(p) - 1); }, 1.0, {dvec3(-2), dvec3(2)}));
 }
 
 TEST(Helpers, MarcherMatchesReferenceOnAMesh) {

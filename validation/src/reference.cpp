@@ -430,4 +430,22 @@ ReferenceHit Reference::first_hit(dvec3 o, dvec3 d, double t_max) const {
   return out;
 }
 
+void probe_nearest(const Reference& ref, dvec3 p, std::initializer_list<dvec3> likely, NearestSurface& near) {
+  auto probe = [&](dvec3 dir) {
+    if (!(glm::length(dir) > 0)) return;
+    dir = glm::normalize(dir);
+    const ReferenceHit h = ref.first_hit(p, dir, std::isfinite(near.distance) ? near.distance : 1e9);
+    near.inside = near.inside || h.inside;
+    if (h.hit && h.t < near.distance) {
+      near.distance = h.t;
+      near.toward = dir;
+    }
+  };
+  for (const dvec3 dir : likely) probe(dir);
+  for (int a = -1; a <= 1; ++a)
+    for (int b = -1; b <= 1; ++b)
+      for (int c = -1; c <= 1; ++c)
+        if (a != 0 || b != 0 || c != 0) probe(dvec3(a, b, c));
+}
+
 }  // namespace marchcheck::validation

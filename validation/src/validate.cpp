@@ -10,8 +10,11 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <iomanip>
+#include <memory>
 #include <optional>
 #include <random>
+#include <sstream>
 
 namespace marchcheck::validation {
 
@@ -37,6 +40,8 @@ const std::vector<DefaultLimit>& default_limits() {
       {"normal.angle_p99_deg", 2, "99th percentile of the normal's angle error at agreed hits", false},
       {"shadow.false_shadow", 0.002, "fraction of lit reference points the marched shadow darkens (acne)"},
       {"shadow.false_lit", 0.002, "fraction of shadowed reference points the marched shadow lights (leaks)"},
+      {"march.over_max_steps", 0, "rays whose march evaluated the field more often than max_steps allows"},
+      {"normal.length_err_max", 1e-4, "largest | |n| - 1 | of the normals at hits (float rounding gives ~1e-7)"},
       {"sdf.lipschitz_over_declared", 1.001, "measured Lipschitz constant over the declared one"},
       {"march.safe_step_ratio", 1.001, "measured Lipschitz constant times the marcher's step per unit of f"},
       {"sdf.overestimate_max", 1e-6, "largest |f|/L minus the true distance's upper bound (> 0: not a bound)"},
@@ -69,81 +74,100 @@ bool is_exact_outside(const sdf::Node& n, double time) {
   }
 }
 
-// The nearest reference surface found from p so far (an upper bound on p's distance to it).
-struct NearestSurface {
-  double distance = INFINITY;
-  dvec3 toward{0};  // from p to the nearest surface point found
-  bool inside = false;  // p is inside the reference solid
-};
-
-// Probes the directions where the nearest point is likely, then the 26 of the cube's neighbours.
-void probe_nearest(const Reference& ref, dvec3 p, std::initializer_list<dvec3> likely, NearestSurface& near) {
-  auto probe = [&](dvec3 dir) {
-    if (!(glm::length(dir) > 0)) return;
-    dir = glm::normalize(dir);
-    const ReferenceHit h = ref.first_hit(p, dir, std::isfinite(near.distance) ? near.distance : 1e9);
-    near.inside = near.inside || h.inside;
-    if (h.hit && h.t < near.distance) {
-      near.distance = h.t;
-      near.toward = dir;
-    }
-  };
-  for (const dvec3 dir : likely) probe(dir);
-  for (int a = -1; a <= 1; ++a)
-    for (int b = -1; b <= 1; ++b)
-      for (int c = -1; c <= 1; ++c)
-        if (a != 0 || b != 0 || c != 0) probe(dvec3(a, b, c));
+// The march context of a field declared with Lipschitz bound L, seen through camera.
+march::MarchContext march_context(const march::Camera& camera, double lipschitz) {
+  march::MarchContext ctx;
+  ctx.lipschitz = lipschitz;
+  ctx.footprint_at_0 = camera.footprint_at_0();
+  ctx.footprint_slope = camera.footprint_slope();
+  return ctx;
 }
 
+// The scene's own field, marcher and estimators in arithmetic T.
 template <class T>
-struct Runner {
-  const sdf::Scene& scene;
-  const sdf::Tape& tape;
-  const march::MarchContext& ctx;
-
-  march::RayRecord<T> march_ray(dvec3 o, dvec3 d) const {
-    auto r = march::march<T>(march::TapeField{&tape}, glm::vec<3, T>(o), glm::vec<3, T>(d), scene.march, ctx);
-    if (scene.march.miss_as_zero && r.outcome != Outcome::hit) {
-      r.outcome = Outcome::hit;  // how the seed's consumer reads a miss encoded as distance 0
-      r.t = 0;
+Subject scene_subject(const sdf::Scene& scene) {
+  using V = glm::vec<3, T>;
+  const auto tape = std::make_shared<const sdf::Tape>(sdf::compile(scene.root, scene.time));
+  const sdf::FieldInfo info = sdf::derive_info(scene.root, scene.time);
+  const auto ctx = std::make_shared<const march::MarchContext>(
+      march_context(march::Camera(scene.camera, scene.width, scene.height), info.lipschitz));
+  const march::TapeField field{tape.get()};
+  const sdf::MarchSettings settings = scene.march;
+  Subject s;
+  s.field = [tape](dvec3 p) { return sdf::evaluate(*tape, p); };
+  s.march = [tape, ctx, field, settings](dvec3 o, dvec3 d) {
+    const auto r = march::march<T>(field, V(o), V(d), settings, *ctx);
+    MarchedRay m{r.outcome, static_cast<double>(r.t), r.evals, std::nullopt};
+    if (settings.miss_as_zero && r.outcome != Outcome::hit) {
+      m.outcome = Outcome::hit;  // how the seed's consumer reads a miss encoded as distance 0
+      m.t = 0;
     }
-    return r;
+    return m;
+  };
+  s.normal = [tape, field, settings](dvec3 p, double t) {
+    const T eps = T(settings.normal_eps_scaled ? settings.normal_eps * t : settings.normal_eps);
+    return dvec3(march::estimate_normal(field, V(p), settings.normal, eps).n);
+  };
+  s.visibility = [tape, ctx, field, settings](dvec3 p, dvec3 n, dvec3 to_light, double dist, double t,
+                                              const sdf::Light& light) {
+    return static_cast<double>(march::shadow_visibility<T>(field, V(p), V(n), V(to_light), static_cast<T>(dist),
+                                                           static_cast<T>(t), light, settings, *ctx)
+                                   .visibility);
+  };
+  s.declared = info;
+  s.exact_outside = is_exact_outside(scene.root, scene.time);
+  s.unit_roundoff = std::numeric_limits<T>::epsilon();
+  return s;
+}
+
+std::string vec_text(dvec3 v) {
+  std::ostringstream out;
+  out << std::setprecision(6) << "(" << v.x << ", " << v.y << ", " << v.z << ")";
+  return out.str();
+}
+
+// One primary ray with what the march and the reference said of it, as an offender is named.
+std::string ray_text(double px, double py, const march::Ray& ray, const MarchedRay& rec, const ReferenceHit& rh) {
+  std::ostringstream out;
+  out << std::setprecision(6) << "ray through pixel (" << px << ", " << py << "), origin " << vec_text(ray.origin)
+      << ", direction " << vec_text(ray.direction) << ": marched " << march::to_string(rec.outcome) << " at t = "
+      << rec.t << " after " << rec.evals << " evaluations; reference "
+      << (rh.hit ? "hit at t = " : "miss") ;
+  if (rh.hit) out << rh.t;
+  return out.str();
+}
+
+// The first offender of each counted metric, and the worst of each largest value.
+struct Offenders {
+  std::map<std::string, std::pair<double, std::string>> by_metric;
+  void first(const std::string& metric, const std::string& text) {
+    by_metric.try_emplace(metric, 0.0, "first: " + text);
   }
-  dvec3 normal(dvec3 p, double t) const {
-    const auto& s = scene.march;
-    const T eps = T(s.normal_eps_scaled ? s.normal_eps * t : s.normal_eps);
-    return dvec3(march::estimate_normal(march::TapeField{&tape}, glm::vec<3, T>(p), s.normal, eps).n);
-  }
-  double visibility(dvec3 p, dvec3 n, dvec3 to_light, double dist, double t, const sdf::Light& light) const {
-    return march::shadow_visibility<T>(march::TapeField{&tape}, glm::vec<3, T>(p), glm::vec<3, T>(n),
-                                       glm::vec<3, T>(to_light), static_cast<T>(dist), static_cast<T>(t), light,
-                                       scene.march, ctx)
-        .visibility;
+  void largest(const std::string& metric, double value, const std::string& text) {
+    const auto it = by_metric.find(metric);
+    if (it == by_metric.end() || value > it->second.first) by_metric[metric] = {value, "worst: " + text};
   }
 };
 
-template <class T>
-void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::string, double>& m) {
-  const sdf::Tape tape = sdf::compile(scene.root, scene.time);
+void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOptions& opt,
+             std::map<std::string, double>& m, std::map<std::string, std::string>& offender_text) {
   const sdf::Node& intended = scene.intended ? *scene.intended : scene.root;
   const Reference ref(intended, scene.time);
   const march::Camera camera(scene.camera, scene.width, scene.height);
-  march::MarchContext ctx;
-  const sdf::FieldInfo info = sdf::derive_info(scene.root, scene.time);
-  ctx.lipschitz = info.lipschitz;
-  ctx.footprint_at_0 = camera.footprint_at_0();
-  ctx.footprint_slope = camera.footprint_slope();
-  const Runner<T> run{scene, tape, ctx};
-  const bool exact_outside = is_exact_outside(scene.root, scene.time);
+  const march::MarchContext ctx = march_context(camera, subject.declared.lipschitz);
+  const bool exact_outside = subject.exact_outside;
   // An estimate promises no distance, so its hits are judged by what the image can show: the set within the
   // pixel's footprint.
-  const bool estimate = info.kind == sdf::Kind::estimate;
+  const bool estimate = subject.declared.kind == sdf::Kind::estimate;
   const double max_dist = std::isfinite(scene.march.max_dist) ? scene.march.max_dist : 1e6;
-  const double declared = info.lipschitz;
+  const double declared = subject.declared.lipschitz;
+  const auto field = [&subject](dvec3 p) { return subject.field(p); };
+  Offenders offenders;
 
-  int rays = 0, false_hit = 0, false_miss = 0, overshoot = 0, undecided = 0, ambiguous = 0;
+  int rays = 0, false_hit = 0, false_miss = 0, overshoot = 0, undecided = 0, ambiguous = 0, over_steps = 0;
   int shadow_samples = 0, false_shadow = 0, false_lit = 0;
-  double ray_norm_err = 0, surface_over_eps = 0, surface_dist_max = 0, evals = 0;
+  double ray_norm_err = 0, surface_over_eps = 0, surface_dist_max = 0, evals = 0, normal_length_err = 0;
+  bool judged_normals = static_cast<bool>(subject.normal);  // else: when the marcher gives a normal
   std::vector<double> t_err, angle, edge_angle;  // normal errors away from edges and at sharp edges
   std::vector<std::pair<dvec3, double>> surface_points;  // reference hits and their distance, for the SDF checks
 
@@ -154,10 +178,15 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
       const double len = glm::length(ray.direction);
       ray_norm_err = std::max(ray_norm_err, std::abs(len - 1));
       const dvec3 dn = ray.direction / len;
-      const auto rec = run.march_ray(ray.origin, ray.direction);
+      const MarchedRay rec = subject.march(ray.origin, ray.direction);
       evals += rec.evals;
       ++rays;
       const ReferenceHit rh = ref.first_hit(ray.origin, dn, max_dist);
+      const auto text = [&] { return ray_text(px, py, ray, rec, rh); };
+      if (rec.evals > scene.march.max_steps) {
+        ++over_steps;
+        offenders.first("march.over_max_steps", text());
+      }
       if (rh.inside || rh.unknown) continue;
       // Grazing band: rays whose neighbours a hit threshold away disagree with them are left out.
       const double t_scale = rh.hit ? rh.t : std::min(max_dist, 10.0);
@@ -175,21 +204,30 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
         ++ambiguous;
         continue;
       }
-      if (rec.outcome == Outcome::miss_steps) ++undecided;
-      const double t_m = static_cast<double>(rec.t) * len;
-      const double eps_m = static_cast<double>(march::hit_threshold<double>(scene.march, ctx, static_cast<double>(rec.t)));
+      if (rec.outcome == Outcome::miss_steps) {
+        ++undecided;
+        offenders.first("hit.undecided", text());
+      }
+      const double t_m = rec.t * len;
+      const double eps_m = static_cast<double>(march::hit_threshold<double>(scene.march, ctx, rec.t));
       if (rec.outcome == Outcome::hit) {
-        const dvec3 p_m = ray.origin + ray.direction * static_cast<double>(rec.t);
-        const dvec3 n_m = run.normal(p_m, static_cast<double>(rec.t));
+        const dvec3 p_m = ray.origin + ray.direction * rec.t;
+        const std::optional<dvec3> n_m = subject.normal ? subject.normal(p_m, rec.t) : rec.normal;
+        if (n_m) {
+          judged_normals = true;
+          const double length_err = std::abs(glm::length(*n_m) - 1);
+          normal_length_err = std::max(normal_length_err, length_err);
+          offenders.largest("normal.length_err_max", length_err, text() + "; normal " + vec_text(*n_m));
+        }
         // An upper bound on the hit point's distance to the true surface: the ray's own, then the probes
         // (the reference normal's reverse and the marched one's: exact where the surface is flat).
         NearestSurface near{rh.hit ? std::abs(rh.t - t_m) : INFINITY, t_m < rh.t ? dn : -dn};
-        probe_nearest(ref, p_m, {rh.hit ? -rh.normal : dvec3(0), -n_m}, near);
+        probe_nearest(ref, p_m, {rh.hit ? -rh.normal : dvec3(0), n_m ? -*n_m : dvec3(0)}, near);
         double upper = near.distance;
         const dvec3 toward = near.toward;
         const bool inside = near.inside;
         // Float rounding of the hit point itself is allowed on top of the threshold.
-        const double rounding = 4 * std::numeric_limits<T>::epsilon() * (glm::length(ray.origin) + t_m);
+        const double rounding = 4 * subject.unit_roundoff * (glm::length(ray.origin) + t_m);
         const double allowed = eps_m * len + rounding + ref.t_error_bound();
         // Within the solid but no farther past the first surface than the hit point's float rounding: rounded
         // across the surface (t's own ulp at t = 100 is 8e-6), not a step through it.
@@ -197,6 +235,7 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
         if (inside && !just_past) upper = 0;  // deeper in the solid: the surface distance is unknown, the hit is wrong
         if ((inside && !just_past) || (rh.hit && t_m > rh.t + band && upper > allowed)) {
           ++overshoot;  // the march went through the first surface
+          offenders.first("hit.overshoot", text());
           continue;
         }
         // A bound may be below the threshold farther from the surface than the threshold (where its gradient
@@ -207,27 +246,37 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
           if (exact_outside || !std::isfinite(upper)) return false;
           const int n = static_cast<int>(std::min(4096.0, std::ceil(upper * declared / eps_m))) + 1;
           for (int s = 0; s <= n; ++s)
-            if (std::abs(sdf::evaluate(tape, p_m + toward * (upper * s / n))) >= eps_m) return false;
+            if (std::abs(subject.field(p_m + toward * (upper * s / n))) >= eps_m) return false;
           return true;
         };
-        const double footprint = ctx.footprint_at_0 + ctx.footprint_slope * static_cast<double>(rec.t);
+        const double footprint = ctx.footprint_at_0 + ctx.footprint_slope * rec.t;
         if (upper > std::max(2 * allowed + band, estimate ? footprint : 0.0) && !in_shell()) {
           ++false_hit;  // nothing the reference knows is near the marched hit
+          offenders.first("hit.false_hit", text());
           continue;
         }
         surface_dist_max = std::max(surface_dist_max, upper);
         // Only a field exact outside its solid promises hits within the threshold: a bound may stop farther.
-        if (exact_outside) surface_over_eps = std::max(surface_over_eps, upper / (allowed + 1e-300));
+        if (exact_outside) {
+          surface_over_eps = std::max(surface_over_eps, upper / (allowed + 1e-300));
+          offenders.largest("hit.surface_dist_over_eps", upper / (allowed + 1e-300), text());
+        }
         // A legitimate near-hit on a surface the ray itself passes by: nothing to compare t or the normal with.
         // The ray's own gap to the reference hit beyond 10x the nearest surface's distance means it meets the
         // surface there at more than 84 degrees from its normal, or not at this point at all.
         if (!rh.hit || std::abs(rh.t - t_m) > 10 * (upper + allowed) + band) continue;
         t_err.push_back(std::abs(t_m - rh.t));
-        (at_edge ? edge_angle : angle)
-            .push_back(std::acos(std::clamp(glm::dot(n_m, rh.normal), -1.0, 1.0)) * 180 / std::numbers::pi);
+        if (n_m) {
+          const double a = std::acos(std::clamp(glm::dot(*n_m, rh.normal), -1.0, 1.0)) * 180 / std::numbers::pi;
+          (at_edge ? edge_angle : angle).push_back(a);
+          offenders.largest(at_edge ? "normal.edge_angle_p99_deg" : "normal.angle_p99_deg", a,
+                            text() + "; normal " + vec_text(*n_m) + ", reference normal " + vec_text(rh.normal));
+        }
         const dvec3 p_r = ray.origin + dn * rh.t;
         surface_points.push_back({p_r, rh.t});
-        for (const auto& light : scene.lights) {
+        if (!subject.visibility) continue;
+        for (size_t l = 0; l < scene.lights.size(); ++l) {
+          const sdf::Light& light = scene.lights[l];
           if (light.shadow == sdf::ShadowMode::none) continue;
           const dvec3 lp = light.position_at(scene.time);
           const bool point = light.type == sdf::LightType::point;
@@ -247,13 +296,26 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
             edge = edge || (!ref.first_hit(start + (offset + rh.normal) * sband, to_light, dist).hit) != lit;
           if (edge) continue;
           ++shadow_samples;
-          const double v = run.visibility(p_m, n_m, to_light, point ? glm::length(lp - p_m) : INFINITY,
-                                          static_cast<double>(rec.t), light);
-          if (lit && v < 0.5) ++false_shadow;
-          if (!lit && v >= 0.5) ++false_lit;
+          const double v = subject.visibility(p_m, n_m.value_or(rh.normal), to_light,
+                                              point ? glm::length(lp - p_m) : INFINITY, rec.t, light);
+          const auto shadow_text = [&] {
+            std::ostringstream out;
+            out << text() << "; light " << l << ": visibility " << v << " where the reference is "
+                << (lit ? "lit" : "shadowed");
+            return out.str();
+          };
+          if (lit && v < 0.5) {
+            ++false_shadow;
+            offenders.first("shadow.false_shadow", shadow_text());
+          }
+          if (!lit && v >= 0.5) {
+            ++false_lit;
+            offenders.first("shadow.false_lit", shadow_text());
+          }
         }
       } else if (rec.outcome == Outcome::miss_far && rh.hit && rh.t < max_dist * 0.999) {
         ++false_miss;
+        offenders.first("hit.false_miss", text());
       }
     }
   m["hit.rays"] = rays;
@@ -266,11 +328,15 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
   m["hit.t_err_p99"] = percentile(t_err, 0.99);
   m["hit.surface_dist_max"] = surface_dist_max;
   if (exact_outside) m["hit.surface_dist_over_eps"] = surface_over_eps;
-  m["normal.angle_max_deg"] = angle.empty() ? 0 : *std::max_element(angle.begin(), angle.end());
-  m["normal.angle_p99_deg"] = percentile(angle, 0.99);
-  double mean = 0;
-  for (double a : angle) mean += a / static_cast<double>(angle.size());
-  m["normal.angle_mean_deg"] = mean;
+  m["march.over_max_steps"] = over_steps;
+  if (judged_normals) {
+    m["normal.angle_max_deg"] = angle.empty() ? 0 : *std::max_element(angle.begin(), angle.end());
+    m["normal.angle_p99_deg"] = percentile(angle, 0.99);
+    double mean = 0;
+    for (double a : angle) mean += a / static_cast<double>(angle.size());
+    m["normal.angle_mean_deg"] = mean;
+    m["normal.length_err_max"] = normal_length_err;
+  }
   if (!edge_angle.empty()) {
     m["normal.edge_samples"] = static_cast<double>(edge_angle.size());
     m["normal.edge_angle_max_deg"] = *std::max_element(edge_angle.begin(), edge_angle.end());
@@ -302,23 +368,38 @@ void measure(const sdf::Scene& scene, const ValidateOptions& opt, std::map<std::
       const dvec3 dir = glm::normalize(dvec3(g(rng), g(rng), g(rng)));
       // Any two points bound L from below: close pairs see steep slopes, wider ones see jumps (a shape crossing
       // its repetition cell) that a close pair almost never straddles.
-      const double f = sdf::evaluate(tape, p);
-      for (const double h : {1e-5 * scale, 1e-2 * scale, 0.3 * scale})
-        lipschitz = std::max(lipschitz, std::abs(sdf::evaluate(tape, p + dir * h) - f) / h);
+      const double f = subject.field(p);
+      for (const double h : {1e-5 * scale, 1e-2 * scale, 0.3 * scale}) {
+        const double slope = std::abs(subject.field(p + dir * h) - f) / h;
+        if (slope > lipschitz) {  // a new largest: the only one whose text is kept
+          std::ostringstream out;
+          out << std::setprecision(6) << "slope " << slope << " from " << vec_text(p) << " along " << vec_text(dir)
+              << " over " << h;
+          offenders.largest("sdf.lipschitz_over_declared", slope, out.str());
+          lipschitz = slope;
+        }
+      }
       if (!(ref.exact() || estimate) || rep > 1) continue;
       // Down the field's own gradient lies the nearest point of a field close to the reference's.
-      const dvec3 grad =
-          march::estimate_normal(march::TapeField{&tape}, p, march::NormalMethod::central, 1e-6 * scale).n;
+      const dvec3 grad = march::central_normal(field, p, 1e-6 * scale).n;
       NearestSurface near;
       probe_nearest(ref, p, {f > 0 ? -grad : grad}, near);
       if (near.inside || !std::isfinite(near.distance)) continue;  // the upper bound needs a point outside
-      if (estimate)
+      if (estimate) {
         estimate_ratio = std::max(estimate_ratio, f / near.distance);
-      else
-        overestimate = std::max(overestimate, std::abs(f) / declared - near.distance);
+      } else {
+        const double over = std::abs(f) / declared - near.distance;
+        overestimate = std::max(overestimate, over);
+        std::ostringstream out;
+        out << std::setprecision(6) << "at " << vec_text(p) << ": f = " << f << ", a surface " << near.distance
+            << " away along " << vec_text(near.toward);
+        offenders.largest("sdf.overestimate_max", over, out.str());
+      }
     }
   }
   m["sdf.lipschitz_measured"] = lipschitz;
+  for (const auto& [metric, offender] : offenders.by_metric) offender_text[metric] = offender.second;
+  offender_text["march.safe_step_ratio"] = offender_text["sdf.lipschitz_over_declared"];
   if (estimate) {
     // Nothing declared to contradict: how far the estimate exceeds the distance to the set is reported.
     m["sdf.estimate_over_distance_max"] = estimate_ratio;
@@ -386,24 +467,10 @@ march::SurfaceOracle oracle_of(const Reference& ref) {
   }};
 }
 
-SceneResult validate_scene(const sdf::Scene& scene, const ValidateOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
-  SceneResult r;
-  r.scene = scene.name;
-  r.defects = scene.defects;
-  if (scene.march.precision == sdf::Precision::dual) {
-    measure<double>(scene, options, r.metrics);
-  } else {
-    measure<float>(scene, options, r.metrics);
-  }
-  if (options.image_width > 0) {
-    ImagePair pair = render_image_pair(scene, options.image_width,
-                                       options.keep_images ? std::vector{march::Aov::steps} : std::vector<march::Aov>{});
-    image_metrics(pair, options.image_threshold, r.metrics);
-    if (options.keep_images) r.images = std::move(pair);
-  }
-  r.metrics["cost.seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const bool estimate = sdf::derive_info(scene.root, scene.time).kind == sdf::Kind::estimate;
+namespace {
+
+// Each default limit (or the scene's own) applied to the metrics the result has.
+void apply_limits(const sdf::Scene& scene, bool estimate, SceneResult& r) {
   for (const auto& d : default_limits()) {
     auto value = r.metrics.find(d.metric);
     if (value == r.metrics.end()) continue;  // not applicable to this scene
@@ -421,7 +488,53 @@ SceneResult validate_scene(const sdf::Scene& scene, const ValidateOptions& optio
     c.pass = c.value <= c.limit;
     r.checks.push_back(c);
   }
+}
+
+SceneResult judge(const sdf::Scene& scene, const Subject& subject, const ValidateOptions& options, bool images) {
+  const auto start = std::chrono::steady_clock::now();
+  SceneResult r;
+  r.scene = scene.name;
+  r.defects = scene.defects;
+  measure(scene, subject, options, r.metrics, r.offenders);
+  if (images && options.image_width > 0) {
+    ImagePair pair = render_image_pair(scene, options.image_width,
+                                       options.keep_images ? std::vector{march::Aov::steps} : std::vector<march::Aov>{});
+    image_metrics(pair, options.image_threshold, r.metrics);
+    if (options.keep_images) r.images = std::move(pair);
+  }
+  r.metrics["cost.seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  apply_limits(scene, subject.declared.kind == sdf::Kind::estimate, r);
   return r;
+}
+
+}  // namespace
+
+SceneResult validate_scene(const sdf::Scene& scene, const ValidateOptions& options) {
+  const Subject own = scene.march.precision == sdf::Precision::dual ? scene_subject<double>(scene)
+                                                                    : scene_subject<float>(scene);
+  return judge(scene, own, options, true);
+}
+
+SceneResult validate_subject(const sdf::Scene& scene, const Subject& subject, const ValidateOptions& options) {
+  return judge(scene, subject, options, false);
+}
+
+void print_checks(const SceneResult& r, std::ostream& out) {
+  out << r.scene << (r.defects.empty() ? "" : "  (reproduces a seed defect)") << ": " << (r.pass() ? "PASS" : "FAIL")
+      << "\n";
+  out << "  " << std::left << std::setw(30) << "check" << std::right << std::setw(13) << "value" << std::setw(13)
+      << "limit" << "  result  limit from\n";
+  for (const auto& c : r.checks) {
+    out << "  " << std::left << std::setw(30) << c.name << std::right << std::setw(13) << std::setprecision(4)
+        << std::defaultfloat << c.value << std::setw(13) << c.limit << "  " << (c.pass ? "pass  " : "FAIL  ") << "  "
+        << c.limit_source << "\n";
+    const auto offender = r.offenders.find(c.name);
+    if (!c.pass && offender != r.offenders.end()) out << "      " << offender->second << "\n";
+  }
+  if (r.not_checked.empty()) return;
+  out << "  reported, not checked (" << kNotCheckedWhy << "):";
+  for (const auto& name : r.not_checked) out << " " << name << " = " << std::setprecision(4) << metric_value(r.metrics, name);
+  out << "\n";
 }
 
 }  // namespace marchcheck::validation

@@ -28,16 +28,21 @@ inline glm::vec<3, T> unit_or_zero(glm::vec<3, T> g) {
 }
 }  // namespace detail
 
+// Central differences, for any field callable with glm::vec<3, T>.
+template <class T, class F>
+NormalResult<T> central_normal(const F& f, glm::vec<3, T> p, T eps) {
+  using V = glm::vec<3, T>;
+  const V g(f(p + V(eps, 0, 0)) - f(p - V(eps, 0, 0)), f(p + V(0, eps, 0)) - f(p - V(0, eps, 0)),
+            f(p + V(0, 0, eps)) - f(p - V(0, 0, eps)));
+  return {detail::unit_or_zero(g), 6};
+}
+
 // f must be callable with glm::vec<3, T> (and with glm::vec<3, sdf::Dual<T>> for the analytic method).
 template <class T, class F>
 NormalResult<T> estimate_normal(const F& f, glm::vec<3, T> p, NormalMethod method, T eps) {
   using V = glm::vec<3, T>;
   switch (method) {
-    case NormalMethod::central: {
-      const V g(f(p + V(eps, 0, 0)) - f(p - V(eps, 0, 0)), f(p + V(0, eps, 0)) - f(p - V(0, eps, 0)),
-                f(p + V(0, 0, eps)) - f(p - V(0, 0, eps)));
-      return {detail::unit_or_zero(g), 6};
-    }
+    case NormalMethod::central: return central_normal(f, p, eps);
     case NormalMethod::forward: {
       const T f0 = f(p);
       const V g(f(p + V(eps, 0, 0)) - f0, f(p + V(0, eps, 0)) - f0, f(p + V(0, 0, eps)) - f0);

@@ -8,6 +8,8 @@
 
 #include <glm/glm.hpp>
 
+#include <cmath>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <optional>
@@ -95,5 +97,17 @@ class Reference {
   sdf::Tape tape_;
   double lipschitz_;
 };
+
+// The nearest reference surface found from a point so far: an upper bound on its distance to the surface.
+struct NearestSurface {
+  double distance = INFINITY;
+  glm::dvec3 toward{0};  // from the point to the nearest surface point found
+  bool inside = false;   // the point is inside the reference solid
+};
+
+// Casts from p along the directions where the nearest point is likely (zero ones are skipped), then the 26 of
+// the cube's neighbours, and keeps the nearest surface in near.
+void probe_nearest(const Reference& ref, glm::dvec3 p, std::initializer_list<glm::dvec3> likely,
+                   NearestSurface& near);
 
 }  // namespace marchcheck::validation

@@ -1,12 +1,15 @@
 // The checks: a scene marched as it declares, measured against the references, each metric against a limit.
 #pragma once
 
+#include "marchcheck/march/marcher.hpp"
 #include "marchcheck/march/render.hpp"
 #include "marchcheck/sdf/scene.hpp"
 #include "marchcheck/validation/reference.hpp"
 
+#include <functional>
 #include <map>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -36,9 +39,16 @@ struct SceneResult {
   std::map<std::string, double> metrics;
   std::vector<Check> checks;
   std::vector<std::string> not_checked;  // metrics with a default limit this scene's kind is not held to
+  // Per metric, the ray or point that counted against it first (or, for a largest value, the one that has it),
+  // with its numbers: where to start looking when the check fails.
+  std::map<std::string, std::string> offenders;
   std::optional<ImagePair> images;  // with ValidateOptions::keep_images
   bool pass() const;
 };
+
+// The table the command line prints: each check's value, limit, result and whose limit it is, and under each
+// failed check the ray that counted against it first.
+void print_checks(const SceneResult& result, std::ostream& out);
 
 // A metric by name, NaN when the result does not have it (a check that did not apply).
 double metric_value(const std::map<std::string, double>& metrics, const std::string& name);
@@ -54,6 +64,42 @@ struct ValidateOptions {
 march::SurfaceOracle oracle_of(const Reference& ref);
 
 SceneResult validate_scene(const sdf::Scene& scene, const ValidateOptions& options = {});
+
+// One ray's march as the judge sees it.
+struct MarchedRay {
+  march::Outcome outcome = march::Outcome::invalid;  // hit, miss_far, miss_steps (ran out of steps), inside, invalid
+  double t = 0;   // where the march ended, in units of |direction|
+  int evals = 0;  // field evaluations it made
+  std::optional<glm::dvec3> normal;  // at a hit: the marcher's own normal, when it computes one
+
+  static MarchedRay hit(double t, std::optional<glm::dvec3> normal = std::nullopt) {
+    return {march::Outcome::hit, t, 0, normal};
+  }
+  static MarchedRay miss(double t) { return {march::Outcome::miss_far, t, 0, std::nullopt}; }
+  static MarchedRay out_of_steps(double t) { return {march::Outcome::miss_steps, t, 0, std::nullopt}; }
+};
+
+// What validate judges, as callables: a field, how it marches a ray, its normals and shadows, and what it
+// declares. validate_scene judges a scene's own (its compiled tape, marcher and estimators); a user's field and
+// marcher are judged the same way, against the references of the scene that says what they should draw.
+struct Subject {
+  std::function<double(glm::dvec3)> field;  // for the field's own checks (Lipschitz constant, bound)
+  std::function<MarchedRay(glm::dvec3 origin, glm::dvec3 direction)> march;
+  // The normal at a marched hit p (t along the ray); empty: the marcher's own (MarchedRay::normal) or none.
+  std::function<glm::dvec3(glm::dvec3 p, double t)> normal;
+  // Visibility in [0, 1] from hit p (normal n, t along the eye ray) toward a light; empty: no shadow judged.
+  std::function<double(glm::dvec3 p, glm::dvec3 n, glm::dvec3 to_light, double light_dist, double t,
+                       const sdf::Light& light)>
+      visibility;
+  sdf::FieldInfo declared;     // the kind and Lipschitz bound the field claims
+  bool exact_outside = false;  // the field promises the true distance outside its solid (hits within hit_eps)
+  double unit_roundoff = 0;    // of the march's arithmetic: how far rounding may move a hit point, per unit
+};
+
+// The checks of validate_scene on a subject, against the references of scene (its intended tree, else its root),
+// marched through its camera with its march settings (hit threshold, limits, step rule) and lights. No image
+// comparison: that needs the scene's renderer.
+SceneResult validate_subject(const sdf::Scene& scene, const Subject& subject, const ValidateOptions& options = {});
 
 // The default limits and what each stands for; a scene's `limits` replace them by name.
 struct DefaultLimit {
