@@ -16,3 +16,20 @@ configure_package_config_file(cmake/marchcheckConfig.cmake.in marchcheckConfig.c
 write_basic_package_version_file(marchcheckConfigVersion.cmake COMPATIBILITY SameMinorVersion)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/marchcheckConfig.cmake ${CMAKE_CURRENT_BINARY_DIR}/marchcheckConfigVersion.cmake
         DESTINATION ${marchcheck_cmake_dir})
+
+# A Debian package of the same files under /usr (scripts/package.sh builds a portable one and installs it): the
+# Debian packages its libraries load come from dpkg-shlibdeps; GLM for the CMake package's find_dependency.
+set(CPACK_PACKAGE_NAME marchcheck)
+set(CPACK_PACKAGE_VENDOR marchcheck)
+set(CPACK_PACKAGE_CONTACT "marchcheck developers")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Numerical validation of signed-distance-field ray marching")
+set(CPACK_GENERATOR DEB)
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SECTION science)
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS ${CMAKE_BINARY_DIR}/sdf ${CMAKE_BINARY_DIR}/meshes
+    ${CMAKE_BINARY_DIR}/march ${CMAKE_BINARY_DIR}/validation ${CMAKE_BINARY_DIR}/reports)
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "libglm-dev")
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3-matplotlib, libgtest-dev")
+include(CPack)

@@ -9,7 +9,7 @@ scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 cmake --install "$build" --prefix "$scratch/prefix" >/dev/null
 # What a user's test includes reads GLM, GoogleTest and the standard library, nothing else.
-private=$(c++ -std=c++20 -MM -I"$scratch/prefix/include" -x c++ \
+private=$(c++ -std=c++20 -M -I"$scratch/prefix/include" -x c++ \
   - <<<'#include <marchcheck/validation/gtest_helpers.hpp>' | tr ' \\' '\n\n' | grep -E 'CGAL|OpenMesh|OpenImageIO|embree|tbb|nlohmann' || true)
 if [ -n "$private" ]; then
   echo "consumer: gtest_helpers.hpp includes private dependencies:"; echo "$private"; exit 1

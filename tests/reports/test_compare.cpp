@@ -3,6 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
 namespace marchcheck::reports {
 namespace {
 
@@ -107,6 +112,73 @@ TEST(Compare, BadFilesAndTolerancesNameTheProblem) {
             std::string::npos);
   EXPECT_THROW(parse_tolerance("cost.seconds"), ResultFileError);
   EXPECT_THROW(parse_tolerance("cost.seconds=-1"), ResultFileError);
+}
+
+// The gate's semantics as a table: one metric of one scene, its baseline and current value (NaN: null in the file,
+// absent: the key is missing), the tolerances given, and the verdict. Each row names the broken variant it catches.
+struct GateCase {
+  const char* why;
+  std::string metric;
+  std::optional<double> baseline, current;
+  std::vector<std::string> tolerances;
+  Verdict verdict;
+};
+
+TEST(Compare, GateTable) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<GateCase> cases = {
+      {"default 1e-6 relative: half of it is within", "hit.t_err_max", 1, 1 + 5e-7, {}, Verdict::worse_within_tolerance},
+      {"default 1e-6 relative: twice it is a regression", "hit.t_err_max", 1, 1 + 2e-6, {}, Verdict::regression},
+      {"a zero baseline tolerates rounding (1e-12) only", "hit.false_hit", 0, 1e-13, {}, Verdict::worse_within_tolerance},
+      {"a zero baseline: 2e-12 is a regression", "hit.false_hit", 0, 2e-12, {}, Verdict::regression},
+      {"lower is better", "hit.t_err_max", 1, 0.5, {}, Verdict::better},
+      {"worse exactly by the allowance is within it (not > )", "hit.t_err_max", 1024, 1536, {"hit.t_err_max=0.5"},
+       Verdict::worse_within_tolerance},
+      {"just past the allowance is a regression", "hit.t_err_max", 1024, 1536.001, {"hit.t_err_max=0.5"},
+       Verdict::regression},
+      {"the allowance is relative to |baseline| (a negative baseline too)", "sdf.overestimate_max", -2, -1.9,
+       {"sdf.*=0.1"}, Verdict::worse_within_tolerance},
+      {"a check that went from pass to fail is a regression whatever the tolerance", "check hit.false_hit", 1, 0,
+       {"*=1"}, Verdict::regression},
+      {"a check that went from fail to pass is better", "check hit.false_hit", 0, 1, {}, Verdict::better},
+      {"a number that became null (no longer measurable) is a regression", "hit.t_err_max", 1, nan, {"*=1"},
+       Verdict::regression},
+      {"null that became a number is better", "hit.t_err_max", nan, 1, {}, Verdict::better},
+      {"null stays null: same", "hit.t_err_max", nan, nan, {}, Verdict::same},
+      {"sample counts are informational", "hit.rays", 2304, 100, {}, Verdict::informational},
+      {"an informational metric becoming null stays informational", "hit.rays", 2304, nan, {}, Verdict::informational},
+      {"wall time without a tolerance is informational", "cost.seconds", 1, 5, {}, Verdict::informational},
+      {"wall time named by a tolerance is compared: within", "cost.seconds", 1, 1.1, {"cost.seconds=0.2"},
+       Verdict::worse_within_tolerance},
+      {"wall time named by a tolerance is compared: beyond", "cost.seconds", 1, 1.3, {"cost.seconds=0.2"},
+       Verdict::regression},
+      {"a pattern naming wall time makes it compared", "cost.seconds", 1, 1.3, {"cost.*=0.2"}, Verdict::regression},
+      {"PSNR is better higher", "image.psnr", 40, 39, {}, Verdict::regression},
+      {"the exact name (the longest pattern) wins", "hit.t_err_max", 1, 1.05,
+       {"*=1", "hit.*=0.1", "hit.t_err_max=0"}, Verdict::regression},
+      {"the longest pattern wins, whatever the order", "hit.t_err_max", 1, 1.05,
+       {"hit.t_err_max=0", "hit.*=0.1", "*=1"}, Verdict::regression},
+      {"a prefix pattern beats *", "hit.t_err_p99", 1, 1.05, {"*=0", "hit.*=0.1"}, Verdict::worse_within_tolerance},
+      {"a prefix pattern beats * either way round", "hit.t_err_p99", 1, 1.2, {"hit.*=0.1", "*=1"}, Verdict::regression},
+      {"* covers what nothing longer names", "normal.angle_max_deg", 1, 1.5, {"hit.*=0", "*=1"},
+       Verdict::worse_within_tolerance},
+      {"a prefix pattern matches at the start only", "shadow.hit.t", 1, 1.5, {"hit.*=1"}, Verdict::regression},
+      {"a metric missing from current is a regression", "hit.t_err_max", 1, std::nullopt, {}, Verdict::missing},
+      {"a metric new in current is not", "hit.t_err_max", std::nullopt, 1, {}, Verdict::added},
+  };
+  for (const auto& c : cases) {
+    FlatResults base{"validate", {}}, cur{"validate", {}};
+    const std::string key = "s: " + c.metric;
+    if (c.baseline) base.values[key] = *c.baseline;
+    if (c.current) cur.values[key] = *c.current;
+    std::vector<Tolerance> tolerances;
+    for (const auto& t : c.tolerances) tolerances.push_back(parse_tolerance(t));
+    const Comparison result = compare_results(base, cur, tolerances);
+    ASSERT_EQ(result.changes.size(), 1u) << c.why;
+    EXPECT_EQ(result.changes[0].verdict, c.verdict) << c.why << ": got " << to_string(result.changes[0].verdict);
+    const bool fails = c.verdict == Verdict::regression || c.verdict == Verdict::missing;
+    EXPECT_EQ(result.regression(), fails) << c.why;
+  }
 }
 
 }  // namespace

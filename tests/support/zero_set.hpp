@@ -3,7 +3,7 @@
 #pragma once
 
 #include "marchcheck/sdf/tape.hpp"
-#include "marchcheck/validation/gtest_helpers.hpp"
+#include "marchcheck/validation/lipschitz.hpp"
 
 #include <glm/glm.hpp>
 

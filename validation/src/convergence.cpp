@@ -3,6 +3,7 @@
 #include "marchcheck/march/camera.hpp"
 #include "marchcheck/march/render.hpp"
 #include "marchcheck/validation/reference.hpp"
+#include "marchcheck/validation/statistics.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -37,11 +38,8 @@ ConvergenceRow study_row(const sdf::Scene& scene, double parameter, int rays_x, 
       const ReferenceHit rh = ref.first_hit(ray.origin, ray.direction / len, max_dist);
       if (rh.hit) errors.push_back(std::abs(static_cast<double>(rec.t) * len - rh.t));
     }
-  std::sort(errors.begin(), errors.end());
-  const auto at = [&](double q) {
-    return errors.empty() ? 0.0 : errors[std::min(errors.size() - 1, static_cast<size_t>(q * static_cast<double>(errors.size() - 1) + 0.5))];
-  };
-  return {parameter, static_cast<double>(decided) / rays, at(0.99), errors.empty() ? 0 : errors.back(), evals / rays};
+  const double worst = errors.empty() ? 0 : *std::max_element(errors.begin(), errors.end());
+  return {parameter, static_cast<double>(decided) / rays, percentile(errors, 0.99), worst, evals / rays};
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "marchcheck/validation/lipschitz.hpp"
 #include "marchcheck/validation/mesh_reference.hpp"
 #include "marchcheck/validation/reference.hpp"
+#include "marchcheck/validation/statistics.hpp"
 
 #include <sys/resource.h>
 
@@ -788,8 +789,7 @@ void batch_cost(Run& r, const StabilityOptions& o) {
       for (const BadRay& ray : batch) evals += march_input(field, ray.origin, ray.direction, ms, o.naive).evals;
       times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     }
-    std::sort(times.begin(), times.end());
-    seconds = times[2];
+    seconds = median(times);
     return static_cast<double>(evals);
   };
   double clean_s = 0, mixed_s = 0;

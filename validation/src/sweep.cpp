@@ -1,6 +1,7 @@
 #include "marchcheck/validation/sweep.hpp"
 
 #include "marchcheck/march/render.hpp"
+#include "marchcheck/validation/statistics.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -20,12 +21,6 @@ std::vector<std::string> split(const std::string& text, char sep) {
   }
   parts.push_back(text.substr(start));
   return parts;
-}
-
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 double metric_or_nan(const SweepPoint& p, const std::string& name) { return metric_value(p.metrics, name); }

@@ -4,6 +4,7 @@
 #include "marchcheck/march/effects.hpp"
 #include "marchcheck/march/render.hpp"
 #include "marchcheck/validation/reference.hpp"
+#include "marchcheck/validation/statistics.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -54,12 +55,6 @@ const std::vector<DefaultLimit>& default_limits() {
 }
 
 namespace {
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size() - 1) + 0.5))];
-}
 
 // Exact fields, and unions and rigid motions of them, give the true distance outside the solid.
 bool is_exact_outside(const sdf::Node& n, double time) {
@@ -467,15 +462,12 @@ march::SurfaceOracle oracle_of(const Reference& ref) {
   }};
 }
 
-namespace {
-
-// Each default limit (or the scene's own) applied to the metrics the result has.
-void apply_limits(const sdf::Scene& scene, bool estimate, SceneResult& r) {
+void apply_limits(const std::map<std::string, double>& scene_limits, bool estimate, SceneResult& r) {
   for (const auto& d : default_limits()) {
     auto value = r.metrics.find(d.metric);
     if (value == r.metrics.end()) continue;  // not applicable to this scene
-    auto own = scene.limits.find(d.metric);
-    if (estimate && !d.checks_estimates && own == scene.limits.end()) {
+    auto own = scene_limits.find(d.metric);
+    if (estimate && !d.checks_estimates && own == scene_limits.end()) {
       r.not_checked.push_back(d.metric);
       continue;
     }
@@ -483,12 +475,14 @@ void apply_limits(const sdf::Scene& scene, bool estimate, SceneResult& r) {
     c.name = d.metric;
     c.value = value->second;
     c.why = d.why;
-    c.limit = own != scene.limits.end() ? own->second : d.limit;
-    c.limit_source = own != scene.limits.end() ? "scene" : "default";
+    c.limit = own != scene_limits.end() ? own->second : d.limit;
+    c.limit_source = own != scene_limits.end() ? "scene" : "default";
     c.pass = c.value <= c.limit;
     r.checks.push_back(c);
   }
 }
+
+namespace {
 
 SceneResult judge(const sdf::Scene& scene, const Subject& subject, const ValidateOptions& options, bool images) {
   const auto start = std::chrono::steady_clock::now();
@@ -503,7 +497,7 @@ SceneResult judge(const sdf::Scene& scene, const Subject& subject, const Validat
     if (options.keep_images) r.images = std::move(pair);
   }
   r.metrics["cost.seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  apply_limits(scene, subject.declared.kind == sdf::Kind::estimate, r);
+  apply_limits(scene.limits, subject.declared.kind == sdf::Kind::estimate, r);
   return r;
 }
 

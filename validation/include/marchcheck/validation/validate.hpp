@@ -111,6 +111,10 @@ struct DefaultLimit {
   bool checks_estimates = true;
 };
 const std::vector<DefaultLimit>& default_limits();
+// The result's checks: each default limit whose metric it has, or the scene's own limit by that name; a metric
+// passes at its limit. An estimate is held only to the limits that check estimates, unless the scene sets one:
+// the others go to not_checked.
+void apply_limits(const std::map<std::string, double>& scene_limits, bool estimate, SceneResult& result);
 // Why a metric is in SceneResult::not_checked, as the command line and the report say it.
 inline constexpr const char* kNotCheckedWhy =
     "an estimate: the set's boundary turns within the normal stencil and the pixel; a scene limit checks it";

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Mutation testing: applies the project's mutants (tests/mutants/*.mut, one plausible bug each) one at a time with
+# ../shared/tools/mutate, rebuilding build/ and running ctest after each; every file is put back afterwards.
+#   scripts/mutants.sh               all of them
+#   scripts/mutants.sh --sample N    N of them, picked from the commit hash (each commit tries others): CI's run
+#   scripts/mutants.sh FILE.mut...   the ones named
+# Exit status: 0 every mutant killed, 1 one survived (the test suite cannot see that bug), 2 could not run.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+mutate=../shared/tools/mutate
+[ -x "$mutate" ] || { echo "mutants: $mutate is absent"; exit 2; }
+[ -f build/CMakeCache.txt ] || { echo "mutants: build/ is not configured (scripts/build.sh)"; exit 2; }
+mapfile -t all < <(find tests/mutants -name '*.mut' | LC_ALL=C sort)
+picked=()
+if [ "${1:-}" = "--sample" ]; then
+  n=${2:?--sample needs a count}
+  count=${#all[@]}
+  # Every (count / n)-th mutant from an offset the commit gives: a rotating, reproducible sample.
+  offset=$((16#$(git rev-parse --short=7 HEAD) % count))
+  stride=$((count / n > 0 ? count / n : 1))
+  for ((k = 0; k < n && k < count; ++k)); do picked+=("${all[$(((offset + k * stride) % count))]}"); done
+elif [ $# -gt 0 ]; then
+  picked=("$@")
+else
+  picked=("${all[@]}")
+fi
+echo "mutants: ${#picked[@]} of ${#all[@]}: ${picked[*]##*/}"
+exec "$mutate" -b build "${picked[@]}"

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Builds a portable Debian package (no -march=native, no tests or benchmarks) into build-deb/, installs it with
+# apt (which installs what it depends on), checks that the installed program runs and that tests/consumer builds
+# against /usr and passes, then removes it again unless --keep is given.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh
+cmake -S . -B build-deb -G Ninja -DCMAKE_BUILD_TYPE=Release -DMARCHCHECK_NATIVE=OFF -DMARCHCHECK_BUILD_TESTS=OFF \
+  -DMARCHCHECK_BUILD_BENCH=OFF
+cmake --build build-deb --parallel "$(nproc)"
+(cd build-deb && cpack -G DEB)
+deb=$(ls build-deb/marchcheck_*.deb)
+echo "package: $deb"; dpkg-deb --field "$deb" Depends Recommends
+sudo=""; if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "./$deb" >/dev/null
+if [ "${1:-}" != "--keep" ]; then trap '$sudo apt-get remove -y -qq marchcheck >/dev/null' EXIT; fi
+marchcheck scenes >/dev/null
+scratch=$(mktemp -d)
+cmake -S tests/consumer -B "$scratch" -G Ninja >/dev/null
+cmake --build "$scratch" >/dev/null
+ctest --test-dir "$scratch" --output-on-failure
+rm -rf "$scratch"
