@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <type_traits>
 
 namespace marchcheck::march {
 namespace {
@@ -89,6 +91,52 @@ TEST(Normals, VanishingGradientGivesAZeroNormalNotNaN) {
   for (auto m : {NormalMethod::central, NormalMethod::forward, NormalMethod::tetra, NormalMethod::analytic}) {
     const auto n = estimate_normal(TapeField{&tape}, glm::dvec3(0), m, 1e-3);
     EXPECT_FALSE(std::isnan(n.n.x) || std::isnan(n.n.y) || std::isnan(n.n.z));
+  }
+}
+
+// A field times a constant: the same surface and normals, a gradient of length k.
+struct Scaled {
+  const sdf::Tape* tape;
+  double k;
+  template <class V>
+  auto operator()(V q) const {
+    using T = std::decay_t<decltype(q.x)>;
+    return T(k) * sdf::evaluate(*tape, q);
+  }
+};
+
+// The quadric x^2/a^2 + y^2/b^2 + z^2/c^2 - 1: smooth, its gradient 2 p / r^2 neither unit nor constant in length,
+// its normal normalize(p / r^2) everywhere.
+struct Quadric {
+  glm::dvec3 r;
+  template <class V>
+  auto operator()(V q) const {
+    using T = std::decay_t<decltype(q.x)>;
+    return q.x * q.x / T(r.x * r.x) + q.y * q.y / T(r.y * r.y) + q.z * q.z / T(r.z * r.z) - T(1);
+  }
+};
+
+// Every estimator on fields whose gradient is not unit length (a sphere scaled by 2.5; the quadric) against the
+// analytic normal: unit length, and the angle within its order's error at eps = 1e-4 (central: eps^2 times
+// third-derivative terms, < 1e-6; forward and tetrahedral: eps times the curvature over |grad| (at most 4 here),
+// < 2e-3; AD: rounding, < 1e-9). Broken variants: a normalisation dropped (length 2.5 or |grad|), a probe with
+// the wrong weight.
+TEST(Normals, EveryEstimatorIsUnitAndRightWhereTheGradientIsNotUnit) {
+  const sdf::Tape sphere = sdf::compile(sdf::sphere(1));
+  const Quadric quadric{{1, 0.5, 0.75}};
+  const glm::dvec3 q = 1.2 * quadric.r * kPoint;  // just outside the quadric's zero set
+  const std::pair<NormalMethod, double> methods[] = {{NormalMethod::central, 1e-6},
+                                                     {NormalMethod::forward, 2e-3},
+                                                     {NormalMethod::tetra, 2e-3},
+                                                     {NormalMethod::analytic, 1e-9}};
+  for (const auto& [method, tolerance] : methods) {
+    SCOPED_TRACE("method " + std::to_string(static_cast<int>(method)));
+    const glm::dvec3 on_sphere = estimate_normal(Scaled{&sphere, 2.5}, kPoint, method, 1e-4).n;
+    EXPECT_NEAR(glm::length(on_sphere), 1, 1e-12);
+    EXPECT_LT(angle(on_sphere, kPoint), tolerance);
+    const glm::dvec3 on_quadric = estimate_normal(quadric, q, method, 1e-4).n;
+    EXPECT_NEAR(glm::length(on_quadric), 1, 1e-12);
+    EXPECT_LT(angle(on_quadric, glm::normalize(q / (quadric.r * quadric.r))), tolerance);
   }
 }
 

@@ -55,6 +55,19 @@ TEST(ExactCaster, KnowsWhichTreesItCanCast) {
   EXPECT_FALSE(exact_supported(sdf::make(sdf::Op::affine, {{"model", {2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}}}, {sdf::sphere(1)})));
 }
 
+// The reference is the judge: on a field four times steeper than the distance (a slab squashed to a quarter of
+// its thickness, 0.05 across), steps of f / L land on the slab; steps of f (the broken variant) jump it.
+TEST(NumericalReference, StepsByFOverLAcrossAThinFeatureOfASteepField) {
+  const sdf::Node slab = sdf::make(sdf::Op::affine, {{"model", {1, 0, 0, 0, 0, 0.25, 0, 0, 0, 0, 1, 0}}},
+                                   {sdf::box({2, 0.1, 2})});
+  ASSERT_NEAR(sdf::derive_info(slab, 0).lipschitz, 4, 1e-12);
+  const Reference ref(slab, 0);
+  ASSERT_FALSE(ref.exact());
+  const ReferenceHit h = ref.first_hit({0.3, -1, 0.2}, {0, 1, 0}, 10);
+  EXPECT_TRUE(h.hit);
+  EXPECT_NEAR(h.t, 0.975, 10 * ref.t_error_bound());  // the slab's near face, y = -0.025
+}
+
 TEST(NumericalReference, AgreesWithTheExactOneToItsStatedBound) {
   // The same torus through a node the exact caster does not take (a smooth union with a far-away sphere).
   const sdf::Node torus = sdf::torus(1, 0.25);

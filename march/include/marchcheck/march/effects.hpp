@@ -77,7 +77,7 @@ ShadowResult<T> shadow_visibility(const F& f, glm::vec<3, T> p, glm::vec<3, T> n
   // Soft shadow: penumbra from the closest approach along the shadow ray (Quilez; improved: corrected with the
   // previous step's unbounding sphere).
   const T k = T(light.penumbra);
-  const T step_scale = s.marcher == sdf::Marcher::scaled ? T(1 / c.lipschitz) : T(1);
+  const T step_scale = step_per_unit_f<T>(s, c);
   T res = 1, t = 0, prev_h = std::numeric_limits<T>::max();
   for (int i = 0; i < s.max_steps && t < T(ss.max_dist); ++i) {
     const T h = f(origin + to_light * t);

@@ -53,6 +53,13 @@ inline T hit_threshold(const MarchSettings& s, const MarchContext& c, T t) {
   return T(s.hit_eps);
 }
 
+// How far a step goes per unit of f: step_scale, and for the scaled marcher divided by the declared L (the
+// relaxed marcher's base step too). Marchers and soft shadows step by the same rule.
+template <class T>
+inline T step_per_unit_f(const MarchSettings& s, const MarchContext& c) {
+  return s.marcher == Marcher::scaled ? T(s.step_scale / c.lipschitz) : T(s.step_scale);
+}
+
 // True when the settings and context make no sense (NaN, negative, out of range): such rays are `invalid`.
 bool settings_invalid(const MarchSettings& s, const MarchContext& c);
 
@@ -154,7 +161,7 @@ class SphereTrace {
       : s_(&s),
         c_(&c),
         max_dist_(max_dist),
-        scale_(s.marcher == Marcher::scaled ? T(s.step_scale / c.lipschitz) : T(s.step_scale)),
+        scale_(step_per_unit_f<T>(s, c)),
         omega_(s.marcher == Marcher::relaxed ? T(s.relaxation) : T(1)),
         t_(t_start),
         prev_t_(t_start) {
