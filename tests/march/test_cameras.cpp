@@ -145,6 +145,60 @@ int batched_ray_mismatches(const Camera& batched, const Camera& one) {
   return bad;
 }
 
+// A camera at the origin looking down -z with y up: the undistorted image point (x, y) is the direction
+// (x, -y, -1), so expected rays and pixels can be computed by hand.
+CameraSpec looking_down_minus_z(CameraModel model) {
+  CameraSpec s;
+  s.model = model;
+  s.position = {0, 0, 0};
+  s.target = {0, 0, -1};
+  s.up = {0, 1, 0};
+  return s;
+}
+
+// Brown-Conrady as published (x_d = x (1 + k1 r^2 + k2 r^4) + 2 p1 x y + p2 (r^2 + 2 x^2), y_d = y (1 + k1 r^2 +
+// k2 r^4) + p1 (r^2 + 2 y^2) + 2 p2 x y), every parameter non-zero, fx != fy, cx != cy, on a 640x480 image.
+// By hand for (x, y) = (0.2, -0.1): r^2 = 0.05, radial = 1.005125, x_d = 0.201025 - 0.0004 - 0.0026 = 0.198025,
+// y_d = -0.1005125 + 0.0007 + 0.0008 = -0.0990125; pixel (500 x_d + 300, 400 y_d + 220) = (399.0125, 180.395).
+// Broken variants: p1 and p2 swapped, k2 unused, fx for fy.
+TEST(Cameras, BrownConradyMapsAHandComputedPointBothWays) {
+  CameraSpec s = looking_down_minus_z(CameraModel::intrinsics);
+  s.fx = 500, s.fy = 400, s.cx = 300, s.cy = 220;
+  s.k1 = 0.1, s.k2 = 0.05, s.p1 = 0.01, s.p2 = -0.02;
+  const Camera cam(s, 640, 480);
+  const auto pixel = cam.project({0.2 * 3, 0.1 * 3, -3});
+  ASSERT_TRUE(pixel);
+  EXPECT_NEAR(pixel->x, 399.0125, 1e-9);
+  EXPECT_NEAR(pixel->y, 180.395, 1e-9);
+  // Undistortion (Newton, to 1e-15 in normalised units) gives the ray back to ~1e-12.
+  const Ray r = cam.ray(399.0125, 180.395);
+  const glm::dvec3 expected = glm::normalize(glm::dvec3(0.2, 0.1, -1));
+  EXPECT_NEAR(glm::length(r.direction - expected), 0, 1e-12);
+}
+
+// The principal point defaults to the image centre, cx from the width and cy from the height: on a 640x360 image
+// pixel (320, 180) looks straight ahead. Broken variant: both from one axis.
+TEST(Cameras, DefaultPrincipalPointIsTheCentreOfANonSquareImage) {
+  CameraSpec s = looking_down_minus_z(CameraModel::intrinsics);
+  s.fx = s.fy = 500;  // cx, cy left at their default (-1)
+  const Camera cam(s, 640, 360);
+  EXPECT_NEAR(glm::length(cam.ray(320, 180).direction - glm::dvec3(0, 0, -1)), 0, 1e-15);
+  const auto centre = cam.project({0, 0, -2});
+  ASSERT_TRUE(centre);
+  EXPECT_EQ(*centre, glm::dvec2(320, 180));
+}
+
+// The pinhole by field of view: f = (h / 2) / tan(fov / 2) = 311.769... for 60 degrees on 640x360, so the corner
+// pixel (0, 0) looks along (-320 / f, 180 / f, -1) = (-1.0264005, 0.5773503, -1). Broken variant: f from the width.
+TEST(Cameras, PinholeCornerRayIsTheHandComputedOne) {
+  CameraSpec s = looking_down_minus_z(CameraModel::pinhole);
+  s.fov_deg = 60;
+  const Camera cam(s, 640, 360);
+  const glm::dvec3 expected = glm::normalize(glm::dvec3(-320 / 311.7691453623979, 180 / 311.7691453623979, -1));
+  EXPECT_NEAR(glm::length(cam.ray(0, 0).direction - expected), 0, 1e-14);
+  EXPECT_NEAR(cam.footprint_slope(), 0.5 / 311.7691453623979, 1e-15);
+}
+
 TEST(Camera, BatchedRaysAreTheOneRayResultsBitForBit) {
   for (const std::string& name : sdf::builtin_scene_names()) {
     const sdf::Scene s = sdf::builtin_scene(name, validation::mesh_loader());
