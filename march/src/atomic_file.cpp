@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 namespace marchcheck::march {
@@ -29,6 +30,16 @@ void write_atomically(const std::string& path, const std::function<void(const st
     std::filesystem::remove(tmp, ignored);
     throw std::runtime_error(path + ": cannot move the finished file into place: " + ec.message());
   }
+}
+
+void write_bytes_atomically(const std::string& path, std::string_view bytes) {
+  write_atomically(path, [&](const std::string& tmp) {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error("cannot create " + tmp + " (missing folder or no permission?)");
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.close();  // the last buffer reaches the disk here: its failure counts too
+    if (!out) throw std::runtime_error("cannot write " + tmp + " (disk full?)");
+  });
 }
 
 }  // namespace marchcheck::march

@@ -3,6 +3,7 @@
 
 #include "marchcheck/march/atomic_file.hpp"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -43,22 +44,26 @@ std::vector<unsigned char> to_8bit(const Image& image, bool srgb) {
 
 void write_image(const Image& image, const std::string& path, bool srgb) {
   const bool as_float = is_float_format(path);
-  write_atomically(path, [&](const std::string& tmp) {
-    auto out = OIIO::ImageOutput::create(tmp);
-    if (!out) throw std::runtime_error("no image writer for this extension (" + OIIO::geterror() + ")");
-    OIIO::ImageSpec spec(image.width, image.height, image.channels,
-                         as_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-    bool ok = out->open(tmp, spec);
-    if (ok) {
-      if (as_float) {
-        ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
-      } else {
-        ok = out->write_image(OIIO::TypeDesc::UINT8, to_8bit(image, srgb).data());
-      }
-      ok = out->close() && ok;
+  // Encoded in memory and written by write_bytes_atomically: OIIO's PNG writer reports no failed write (a disk
+  // that fills up), and would leave a truncated image in place.
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) throw std::runtime_error(path + ": no image writer for this extension (" + OIIO::geterror() + ")");
+  if (!out->supports("ioproxy")) throw std::runtime_error(path + ": this image format cannot be written to memory");
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput memory(bytes);
+  OIIO::ImageSpec spec(image.width, image.height, image.channels,
+                       as_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  bool ok = out->set_ioproxy(&memory) && out->open(path, spec);
+  if (ok) {
+    if (as_float) {
+      ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
+    } else {
+      ok = out->write_image(OIIO::TypeDesc::UINT8, to_8bit(image, srgb).data());
     }
-    if (!ok) throw std::runtime_error("cannot write the image: " + out->geterror());
-  });
+    ok = out->close() && ok;
+  }
+  if (!ok) throw std::runtime_error(path + ": cannot write the image: " + out->geterror());
+  write_bytes_atomically(path, {reinterpret_cast<const char*>(bytes.data()), bytes.size()});
 }
 
 Image heat_map(const Image& values, double max_value) {

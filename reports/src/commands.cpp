@@ -1,5 +1,6 @@
 #include "marchcheck/reports/commands.hpp"
 
+#include "marchcheck/march/atomic_file.hpp"
 #include "marchcheck/march/render.hpp"
 #include "marchcheck/reports/compare.hpp"
 #include "marchcheck/reports/results_io.hpp"
@@ -118,7 +119,7 @@ int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err) {
   const auto result = march::render(scene, aovs, oracle ? &*oracle : nullptr, march::Images::asked);
   try {
     march::write_render(result, cmd.output, aovs);
-    if (cmd.stats) write_text_atomically(*cmd.stats, metrics_json(march::cost_metrics(result)));
+    if (cmd.stats) march::write_bytes_atomically(*cmd.stats, metrics_json(march::cost_metrics(result)));
   } catch (const std::exception& e) {
     err << "marchcheck render: " << e.what() << "\n";
     return kBadInput;
@@ -151,7 +152,7 @@ int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& er
   }
   if (cmd.json) {
     try {
-      write_text_atomically(*cmd.json, validate_json(results));
+      march::write_bytes_atomically(*cmd.json, validate_json(results));
     } catch (const std::exception& e) {
       err << "marchcheck validate: " << e.what() << "\n";
       return kBadInput;
@@ -191,7 +192,7 @@ int run_stability(const StabilityCommand& cmd, std::ostream& out, std::ostream& 
   out << stable << " of " << cases.size() << " cases stable" << (cmd.naive ? " (naive variants)" : "") << "\n";
   if (cmd.json) {
     try {
-      write_text_atomically(*cmd.json, stability_json(cases, {cmd.naive, cmd.full}));
+      march::write_bytes_atomically(*cmd.json, stability_json(cases, {cmd.naive, cmd.full}));
     } catch (const std::exception& e) {
       err << "marchcheck stability: " << e.what() << "\n";
       return kBadInput;
@@ -299,8 +300,8 @@ int run_sweep(const SweepCommand& cmd, std::ostream& out, std::ostream& err) {
   }
   if (!options.targets.empty() && !result.cheapest_meeting) out << "no combination meets the target\n";
   try {
-    if (cmd.json) write_text_atomically(*cmd.json, sweep_json(result));
-    if (cmd.csv) write_text_atomically(*cmd.csv, sweep_csv(result));
+    if (cmd.json) march::write_bytes_atomically(*cmd.json, sweep_json(result));
+    if (cmd.csv) march::write_bytes_atomically(*cmd.csv, sweep_csv(result));
   } catch (const std::exception& e) {
     err << "marchcheck sweep: " << e.what() << "\n";
     return kBadInput;

@@ -1,28 +1,14 @@
 #include "marchcheck/reports/results_io.hpp"
 
-#include "marchcheck/march/atomic_file.hpp"
-
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 
 namespace marchcheck::reports {
-
-void write_text_atomically(const std::string& path, const std::string& text) {
-  march::write_atomically(path, [&](const std::string& tmp) {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot create " + tmp + " (missing folder or no permission?)");
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error("cannot write " + tmp + " (disk full?)");
-  });
-}
-
 
 namespace {
 

@@ -1,6 +1,7 @@
 // Whole files or none: a write that fails leaves the previous file as it was and no temporary behind.
 #include "marchcheck/march/atomic_file.hpp"
 #include "marchcheck/march/render.hpp"
+#include "file_size_limit.hpp"
 
 #include <gtest/gtest.h>
 
@@ -104,6 +105,26 @@ TEST_F(AtomicFile, AFailedImageWriteKeepsThePreviousImage) {
     EXPECT_EQ(std::string(e.what()).rfind(path("a.nope") + ": no image writer for this extension", 0), 0u) << e.what();
   }
   EXPECT_TRUE(left_as_before(path("a.nope"), before));
+}
+
+// A 1 KiB file-size limit on 4 KiB of bytes: the disk fills after the file was opened and partly written (at
+// close, as buffered bytes go out). Broken variant: the stream's state after close() not checked.
+TEST_F(AtomicFile, BytesWrittenUnderAFullDiskLeaveThePreviousFile) {
+  write_bytes_atomically(path("r.json"), "{\"old\": true}\n");
+  EXPECT_EQ(write_under_file_size_limit(1024, [&] { write_bytes_atomically(path("r.json"), std::string(4096, 'x')); }),
+            LimitedWrite::threw);
+  EXPECT_TRUE(left_as_before(path("r.json"), "{\"old\": true}\n"));
+}
+
+// The disk fills after the image file was opened and partly written (a 1 KiB file-size limit on a 64x64 PNG of
+// noise, ~12 KiB): the writer must fail and the previous image stay. Broken variant: close()'s failure ignored.
+TEST_F(AtomicFile, AnImageWriteThatFailsLateKeepsThePreviousImage) {
+  Image noise(64, 64, 3);
+  for (size_t i = 0; i < noise.pixels.size(); ++i) noise.pixels[i] = static_cast<float>((i * 2654435761u) % 1000) / 1000;
+  write_image(Image(4, 4, 3, 0.5f), path("a.png"));
+  const std::string before = read(path("a.png"));
+  EXPECT_EQ(write_under_file_size_limit(1024, [&] { write_image(noise, path("a.png")); }), LimitedWrite::threw);
+  EXPECT_TRUE(left_as_before(path("a.png"), before));
 }
 
 // The broken variants the check above must catch: writing in place, and a temporary left behind.

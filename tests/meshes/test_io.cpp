@@ -1,5 +1,6 @@
 // Mesh files: round trips in every format at float precision, atomic saves, and a clear MeshError naming the file
 // for every kind of bad input.
+#include "file_size_limit.hpp"
 #include "marchcheck/meshes/checks.hpp"
 #include "marchcheck/meshes/io.hpp"
 #include "marchcheck/meshes/procedural.hpp"
@@ -111,6 +112,18 @@ TEST(SaveMesh, ReplacesAnExistingFile) {
   save_mesh(icosphere(1, 1).mesh, path);
   EXPECT_EQ(load_mesh(path).triangles.size(), 80u);
   EXPECT_EQ(folder.names().size(), 1u);
+}
+
+// The disk fills after the file was opened and partly written (a 1 KiB limit on an 80-face OBJ, ~4 KiB): the
+// save fails and the previous file stays whole, with no temporary beside it. Broken variant: the stream's state
+// after close() not checked.
+TEST(SaveMesh, AWriteThatFailsLateKeepsThePreviousFile) {
+  const Folder folder;
+  const std::string path = folder.file("m.obj");
+  save_mesh(box({1, 1, 1}).mesh, path);
+  EXPECT_EQ(write_under_file_size_limit(1024, [&] { save_mesh(icosphere(1, 1).mesh, path); }), LimitedWrite::threw);
+  EXPECT_EQ(load_mesh(path).triangles.size(), 12u);
+  EXPECT_EQ(folder.names(), std::vector<std::string>{"m.obj"});
 }
 
 TEST(SaveMesh, WritesTheNamedFormat) {

@@ -3,6 +3,7 @@
 
 #include <functional>
 #include <string>
+#include <string_view>
 
 namespace marchcheck::march {
 
@@ -14,5 +15,9 @@ std::string temp_name(const std::string& path);
 // the temporary is removed, whatever was at path stays as it was, and std::runtime_error "PATH: problem" is
 // thrown (problem: the writer's message).
 void write_atomically(const std::string& path, const std::function<void(const std::string& temp)>& write);
+
+// The bytes as the whole of path, or nothing: a write that fails at any point (a full disk, a file-size limit,
+// at close) throws "PATH: problem" and leaves whatever was at path.
+void write_bytes_atomically(const std::string& path, std::string_view bytes);
 
 }  // namespace marchcheck::march

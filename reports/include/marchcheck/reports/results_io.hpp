@@ -1,4 +1,4 @@
-// Result files: flat dotted metrics as JSON, written atomically.
+// Result files: flat dotted metrics as JSON (written with march::write_bytes_atomically).
 #pragma once
 
 #include "marchcheck/validation/stability.hpp"
@@ -10,10 +10,6 @@
 #include <vector>
 
 namespace marchcheck::reports {
-
-// Writes text through a temporary file in the same folder renamed into place: a reader never sees half a file.
-// Throws std::runtime_error naming the path.
-void write_text_atomically(const std::string& path, const std::string& text);
 
 // {"metric.name": value, ...} sorted by name; non-finite values are written as null.
 std::string metrics_json(const std::map<std::string, double>& metrics);
