@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <algorithm>
 #include <string>
 
@@ -82,6 +84,19 @@ TEST(Inspect, RepeatedIndexIsDegenerate) {
   m.vertices.push_back(m.vertices[0]);  // same position, different index: zero area all the same
   m.triangles.push_back({0, static_cast<std::uint32_t>(m.vertices.size() - 1), 1});
   EXPECT_EQ(inspect(m).degenerate_faces, 1);
+}
+
+// Whichever two corners repeat, the face is degenerate and takes no part in the topology: the sphere stays closed,
+// manifold and consistently oriented. Broken variant: (a, b, a) counted as a face with proper edges.
+TEST(Inspect, ARepeatedIndexAnywhereLeavesTheTopologyAlone) {
+  for (const std::array<std::uint32_t, 3> face : {std::array<std::uint32_t, 3>{0, 0, 1}, {1, 2, 2}, {1, 2, 1}}) {
+    Mesh m = sphere();
+    m.triangles.push_back(face);
+    const MeshReport r = inspect(m);
+    EXPECT_EQ(r.degenerate_faces, 1) << face[0] << face[1] << face[2];
+    EXPECT_TRUE(r.closed && r.manifold && r.consistently_oriented) << face[0] << face[1] << face[2];
+    EXPECT_EQ(r.boundary_edges + r.nonmanifold_edges + r.nonmanifold_vertices, 0) << face[0] << face[1] << face[2];
+  }
 }
 
 TEST(Inspect, ThinButRealTriangleIsNotDegenerate) {

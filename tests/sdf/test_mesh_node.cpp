@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cstdio>
 #include <limits>
@@ -97,6 +98,34 @@ TEST(MeshNode, SignByTheClosestFaceNormalIsCaughtAtSharpEdges) {
     }
     std::printf("%s: face-normal sign wrong at %d of 6000 points, pseudonormal sign at %d\n", c.name, wrong_face,
                 wrong_pseudo);
+  }
+}
+
+// Where the closest feature is a vertex, its pseudonormal is the sum of the incident faces' normals, each weighted
+// by the face's angle at that vertex (Baerentzen & Aanaes), computed here from the mesh alone. The notched box's
+// right triangles meet its corners at 45 and 90 degrees, so any other weighting turns the normal. Broken variant:
+// each face weighted by its angle at another corner.
+TEST(MeshNode, VertexPseudonormalsAreAngleWeighted) {
+  for (const auto& c : cases()) {
+    const TriangleMesh mesh = validation::to_triangle_mesh(c.mesh.mesh);
+    const MeshDistance md(mesh);
+    std::vector<dvec3> expected(mesh.vertices.size(), dvec3(0));
+    for (const auto& t : mesh.triangles)
+      for (int i = 0; i < 3; ++i) {
+        const dvec3 a = mesh.vertices[t[i]], b = mesh.vertices[t[(i + 1) % 3]], cc = mesh.vertices[t[(i + 2) % 3]];
+        const double angle = std::acos(std::clamp(glm::dot(glm::normalize(b - a), glm::normalize(cc - a)), -1.0, 1.0));
+        expected[t[i]] += angle * glm::normalize(glm::cross(b - a, cc - a));
+      }
+    int vertex_hits = 0;
+    for (const dvec3& p : samples(md, 1500, 5)) {
+      const auto closest = md.closest(p);
+      if (closest.feature > MeshDistance::vertex2) continue;
+      const std::uint32_t v = mesh.triangles[closest.triangle][closest.feature];
+      ++vertex_hits;
+      EXPECT_NEAR(glm::length(glm::normalize(closest.pseudonormal) - glm::normalize(expected[v])), 0, 1e-9)
+          << c.name << ", vertex " << v;
+    }
+    EXPECT_GT(vertex_hits, 100) << c.name << ": the samples near vertices must reach vertex features";
   }
 }
 

@@ -179,6 +179,9 @@ TEST(Deformations, DeclaredLipschitzBoundsHoldAndAreTight) {
       {"displace", make(Op::displace, {{"amplitude", {0.1}}, {"frequency", {15}}}, {sphere(0.8)}), 0},
       {"twist", make(Op::twist, {{"rate", {2}}}, {box({0.5, 0.8, 0.3})}), 0},
       {"warp", make(Op::warp, {}, {sphere(2)}), 1.0},
+      // Broken variants: a rule that adds the signed amplitude or rate (a negative one lowers the bound).
+      {"displace, negative amplitude", make(Op::displace, {{"amplitude", {-0.1}}, {"frequency", {15}}}, {sphere(0.8)}), 0},
+      {"twist, negative rate", make(Op::twist, {{"rate", {-2}}}, {box({0.5, 0.8, 0.3})}), 0},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.name);

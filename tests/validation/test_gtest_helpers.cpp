@@ -25,6 +25,9 @@ TEST(UserHelpers, LipschitzAtMostCatchesAFieldOnePercentSteeperThanDeclared) {
 TEST(UserHelpers, IsBoundOfCatchesAnOverestimateAndAFlippedSign) {
   const sdf::Node shape = sdf::sphere(1);
   EXPECT_TRUE(IsExactOf(unit_sphere, shape));
+  // 1% short of the distance is a bound, not exact (the tolerance is 1e-9).
+  EXPECT_TRUE(IsBoundOf([](dvec3 p) { return 0.99 * unit_sphere(p); }, shape));
+  EXPECT_FALSE(IsExactOf([](dvec3 p) { return 0.99 * unit_sphere(p); }, shape)) << "broken variant: 1% short";
   const auto over = IsBoundOf([](dvec3 p) { return 1.5 * unit_sphere(p); }, shape);
   EXPECT_FALSE(over) << "broken variant: 1.5 times the distance";
   EXPECT_NE(std::string(over.message()).find("not a bound"), std::string::npos) << over.message();
