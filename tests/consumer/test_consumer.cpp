@@ -120,10 +120,11 @@ TEST(UserMarcher, HitsTheReferenceWithinTheHitThresholdOnARayList) {
   };
   // Tolerance: the hit threshold over the cosine of the steepest incidence (1.75e-3), and float rounding of t.
   EXPECT_TRUE(mc::validation::MarcherMatchesReference(hit_distance, reference, rays, 2 * kHitEps, kMaxDist));
-  // A tracer stopping 2.5 tolerances short is caught (and so is a tolerance loosened to 2x).
+  // A tracer stopping 5% of the tolerance further short is caught: its errors are 2.1e-3 to 3.85e-3, over the
+  // tolerance and under twice it (so a tolerance loosened to 2x would pass it).
   const auto early = [&](const TestRay& ray) {
     const auto t = hit_distance(ray);
-    return t ? std::optional<double>(*t - 5 * kHitEps) : std::nullopt;
+    return t ? std::optional<double>(*t - 1.05 * 2 * kHitEps) : std::nullopt;
   };
   EXPECT_FALSE(mc::validation::MarcherMatchesReference(early, reference, rays, 2 * kHitEps, kMaxDist));
 }
