@@ -31,7 +31,7 @@ std::string_view to_string(Outcome outcome) {
 bool settings_invalid(const MarchSettings& s, const MarchContext& c) {
   const bool scale_ok = s.step_scale > 0 && std::isfinite(s.step_scale);
   const bool lipschitz_ok = s.marcher != Marcher::scaled || (c.lipschitz > 0 && std::isfinite(c.lipschitz));
-  const bool relax_ok = s.marcher != Marcher::relaxed || (s.relaxation >= 1 && s.relaxation < 2);
+  const bool relax_ok = s.marcher != Marcher::relaxed || sdf::relaxation_valid(s.relaxation);
   const bool fixed_ok = s.marcher != Marcher::fixed || (s.fixed_step > 0 && std::isfinite(s.fixed_step));
   const bool eps_ok = s.hit_eps >= 0 && std::isfinite(s.hit_eps) && c.footprint_at_0 >= 0 && c.footprint_slope >= 0;
   return !(s.max_steps >= 0 && s.max_dist > 0 && scale_ok && lipschitz_ok && relax_ok && fixed_ok && eps_ok);

@@ -66,14 +66,15 @@ E enum_value(const EnumName<E> (&table)[N], const json& v, const std::string& wh
 json number_json(double x) { return std::isinf(x) ? json(x > 0 ? "inf" : "-inf") : json(x); }
 
 // above_lo: the range excludes lo itself (a tolerance such as hit_eps must be > 0, not >= 0).
-double number(const json& v, const std::string& where, double lo = -1e300, double hi = 1e300, bool above_lo = false) {
+double number(const json& v, const std::string& where, double lo = -1e300, double hi = 1e300, bool above_lo = false,
+              bool below_hi = false) {
   const bool infinite = v.is_string() && (v.get<std::string>() == "inf" || v.get<std::string>() == "-inf");
   if (!v.is_number() && !infinite) fail(where, "expected a number, got " + std::string(v.type_name()));
   const double x = infinite ? (v.get<std::string>() == "inf" ? INFINITY : -INFINITY) : v.get<double>();
   if (std::isnan(x)) fail(where, "expected a number, got NaN");  // only --set can spell it
-  if (!(x >= lo && x <= hi) || (above_lo && x == lo)) {
+  if (!(x >= lo && x <= hi) || (above_lo && x == lo) || (below_hi && x == hi)) {
     std::ostringstream s;
-    s << "value " << x << " is out of range " << (above_lo ? "(" : "[") << lo << ", " << hi << "]";
+    s << "value " << x << " is out of range " << (above_lo ? "(" : "[") << lo << ", " << hi << (below_hi ? ")" : "]");
     fail(where, s.str());
   }
   return x;
@@ -120,10 +121,10 @@ Field<S> enum_field(std::string key, const EnumName<E> (&table)[N], M member) {
           [&table, member](S& s, const json& v, const std::string& w) { member(s) = enum_value(table, v, w); }};
 }
 template <class S, class M>
-Field<S> number_field(std::string key, M member, double lo, double hi, bool above_lo = false) {
+Field<S> number_field(std::string key, M member, double lo, double hi, bool above_lo = false, bool below_hi = false) {
   return {key, [member](const S& s) { return number_json(member(const_cast<S&>(s))); },
-          [member, lo, hi, above_lo](S& s, const json& v, const std::string& w) {
-            member(s) = number(v, w, lo, hi, above_lo);
+          [member, lo, hi, above_lo, below_hi](S& s, const json& v, const std::string& w) {
+            member(s) = number(v, w, lo, hi, above_lo, below_hi);
           }};
 }
 template <class S, class M>
@@ -196,7 +197,7 @@ const std::vector<Field<Scene>>& settings() {
       number_field<Scene>("hit_eps", MEMBER(Scene, march.hit_eps), 0, 1e6, true),
       enum_field<Scene>("eps_mode", kEpsModes, MEMBER(Scene, march.eps_mode)),
       number_field<Scene>("step_scale", MEMBER(Scene, march.step_scale), 1e-6, 2),
-      number_field<Scene>("relaxation", MEMBER(Scene, march.relaxation), 1, 2),
+      number_field<Scene>("relaxation", MEMBER(Scene, march.relaxation), kRelaxationMin, kRelaxationMax, false, true),
       number_field<Scene>("fixed_step", MEMBER(Scene, march.fixed_step), 1e-9, 1e6),
       enum_field<Scene>("normal", kNormals, MEMBER(Scene, march.normal)),
       number_field<Scene>("normal_eps", MEMBER(Scene, march.normal_eps), 1e-12, 1),

@@ -26,6 +26,12 @@ enum class ShadowBias { seed_offset, seed_ignore, scaled };
 enum class SoftShadow { classic, improved };
 enum class Precision { single, dual };  // float or double arithmetic in the march
 
+// The over-relaxation factors a relaxed march takes: [1, 2). At 2 the relaxed step's fallback test (two
+// unbounding spheres that must overlap) no longer holds. Scene files and --set refuse others; a march given one
+// anyway (from code) returns `invalid`.
+inline constexpr double kRelaxationMin = 1, kRelaxationMax = 2;  // the maximum excluded
+inline bool relaxation_valid(double omega) { return omega >= kRelaxationMin && omega < kRelaxationMax; }
+
 struct MarchSettings {
   Marcher marcher = Marcher::sphere;
   int max_steps = 200;
