@@ -245,6 +245,17 @@ TEST(Pipeline, ADepthOnlyRenderEvaluatesNoNormal) {
   EXPECT_GT(render(s, {Aov::normal}).stages.at("normal").evals, 0u) << "asking for the normal AOV computes normals";
 }
 
+// Ambient light alone shades without a normal: materials are looked up, no normal is estimated. Broken variant:
+// the normal gate opened by anything that shades (materials), not by what needs the normal.
+TEST(Pipeline, AnAmbientOnlyRenderEvaluatesMaterialsButNoNormal) {
+  sdf::Scene s = base_scene();
+  s.lights.clear();
+  s.effects.ambient = 0.5;
+  const RenderResult ambient_only = render(s, {});
+  EXPECT_EQ(ambient_only.stages.at("normal").evals, 0u);
+  EXPECT_GT(ambient_only.stages.at("material").evals, 0u);
+}
+
 TEST(Mirror, ShowsTheReflectedObjectWhereGeometrySays) {
   // A mirror floor and a red sphere; the camera looks at the floor point whose mirror ray hits the sphere.
   sdf::Scene s = base_scene();

@@ -134,8 +134,12 @@ inline glm::vec<3, S> closest_on_triangle(glm::vec<3, S> p, const std::array<glm
 }
 
 // A row of lanes as a GCC vector, so the compiler computes them in SIMD registers whatever it makes of a loop.
+// Always inlined, so that no call passes a vector wider than the target's registers: GCC's warning that such a
+// return changes the ABI (without -march=native) concerns calls that never happen (down to boxes_distance2).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
 template <class S, std::size_t N>
-inline auto lanes(const std::array<S, N>& a) {
+[[gnu::always_inline]] inline auto lanes(const std::array<S, N>& a) {
   typedef S V __attribute__((vector_size(N * sizeof(S))));
   V v;
   std::memcpy(&v, a.data(), sizeof v);
@@ -191,6 +195,7 @@ inline void boxes_distance2(glm::vec<3, S> p, const std::array<S, 4> (&lo)[3], c
   }
   std::memcpy(out, &sum, sizeof sum);
 }
+#pragma GCC diagnostic pop
 
 }  // namespace detail
 
