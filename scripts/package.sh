@@ -13,7 +13,7 @@ deb=$(ls build-deb/marchcheck_*.deb)
 echo "package: $deb"; dpkg-deb --field "$deb" Depends Recommends
 sudo=""; if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
 DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "./$deb" >/dev/null
-if [ "${1:-}" != "--keep" ]; then trap '$sudo apt-get remove -y -qq marchcheck >/dev/null' EXIT; fi
+if [ "${1:-}" != "--keep" ]; then trap '$sudo apt-get purge -y -qq marchcheck >/dev/null' EXIT; fi
 marchcheck scenes >/dev/null
 scratch=$(mktemp -d)
 cmake -S tests/consumer -B "$scratch" -G Ninja >/dev/null
