@@ -148,6 +148,9 @@ TEST_F(Cli, BadInputExitsTwoWithAMessageAndWritesNothing) {
       {"render lee-flat --set max_step=3 -o " + path("x.png"), "--set max_step: unknown key"},
       {"render lee-flat --set hit_eps=abc -o " + path("x.png"), "--set hit_eps=abc: expected a number"},
       {"render lee-flat --size 64by36 -o " + path("x.png"), "--size 64by36: expected WIDTHxHEIGHT"},
+      // Each side at most 16384: one past it is refused before anything is allocated.
+      {"render lee-flat --size 16x16385 -o " + path("x.png"), "--size 16x16385: expected WIDTHxHEIGHT, each 1..16384"},
+      {"render lee-flat --size 16385x16 -o " + path("x.png"), "--size 16385x16: expected WIDTHxHEIGHT, each 1..16384"},
       {"render lee-flat --aov colour -o " + path("x.png"), "unknown AOV 'colour'"},
       {"render lee-flat --size 8x8 -o " + path("x.nope"), "x.nope: no image writer"},
       {"frobnicate", "unknown command 'frobnicate'"},

@@ -198,6 +198,16 @@ TEST(Deformations, DeclaredLipschitzBoundsHoldAndAreTight) {
   EXPECT_NEAR(derive_info(cases[2].node, 1.0).lipschitz, 1 + 20 * std::abs(std::sin(2.0)) * 0.2 * std::abs(std::sin(5.0)), 1e-12);
 }
 
+// The displacement's value against its closed form, a sin(f x) sin(f y) sin(f z) on top of the child, at a point
+// whose three coordinates differ (rounding: a few ulps of 1). Broken variant: one axis used twice.
+TEST(Deformations, DisplacementIsTheProductOfThreeSines) {
+  const double a = 0.1, f = 15;
+  const Tape tape = compile(make(Op::displace, {{"amplitude", {a}}, {"frequency", {f}}}, {sphere(0.8)}));
+  const glm::dvec3 p(0.3, 0.2, 0.7);
+  const double expected = glm::length(p) - 0.8 + a * std::sin(f * p.x) * std::sin(f * p.y) * std::sin(f * p.z);
+  EXPECT_NEAR(evaluate(tape, p), expected, 1e-15);
+}
+
 TEST(Tree, StructuralErrorsNameThePath) {
   Node bad = unite({sphere(1), make(Op::revolve, {}, {sphere(0.2)})});
   EXPECT_EQ(validate_tree(bad), "/children/1/child: revolve needs a 2D child, sphere is 3D");

@@ -106,6 +106,8 @@ TEST(SceneFile, OutOfRangeAndWronglyTypedValuesNameTheRange) {
             "bad.json:1:13: the number 1e3080 is beyond the range of a double");
   EXPECT_EQ(error_of("{\n \"sdf\": {\"type\": \"sphere\", \"radius\": -22222222222e2222222222222}}"),
             "bad.json:2:38: the number -22222222222e2222222222222 is beyond the range of a double");
+  // A step of more than twice f is no marcher's: refused.
+  EXPECT_EQ(error_of(R"({"step_scale": 2.5, )" + sphere + "}"), "bad.json: /step_scale: value 2.5 is out of range [1e-06, 2]");
   // The relaxed marcher takes [1, 2): a file asking for 2 is refused at load, not marched into `invalid` on every
   // ray (the drift this pins: the file accepted [1, 2], the marcher [1, 2)). --set goes through the same range.
   EXPECT_EQ(error_of(R"({"relaxation": 2, )" + sphere + "}"), "bad.json: /relaxation: value 2 is out of range [1, 2)");
