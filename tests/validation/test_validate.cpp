@@ -118,6 +118,14 @@ TEST(BrokenVariants, EachRemainingCheckCanFail) {
                             {sdf::make(sdf::Op::translate, {{"offset", {0.3, 0, 0}}}, {sdf::sphere(0.35)})});
        },
        "sdf.lipschitz_over_declared"},
+      // The same by a sliver (0.01 past the face): only the probe's widest pairs (0.3 of its scale) straddle a face
+      // where the field jumps (8.4 against 0.9995 for the close pairs alone).
+      {"a sphere crossing its repetition cell by a sliver", "crum-smooth",
+       [](sdf::Scene& s) {
+         s.root = sdf::make(sdf::Op::repeat, {{"period", {1, 0, 1}}},
+                            {sdf::make(sdf::Op::translate, {{"offset", {0.16, 0, 0}}}, {sdf::sphere(0.35)})});
+       },
+       "sdf.lipschitz_over_declared"},
       // Hits 3 thresholds off an exact surface: closer than a false hit (2 thresholds plus the grazing band),
       // farther than the threshold allows.
       {"the torus marched 3 hit thresholds (absolute) too thick", "crum-torus",
