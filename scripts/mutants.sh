@@ -16,7 +16,7 @@ if [ "${1:-}" = "--sample" ]; then
   n=${2:?--sample needs a count}
   count=${#all[@]}
   # Every (count / n)-th mutant from an offset the commit gives: a rotating, reproducible sample.
-  offset=$((16#$(git rev-parse --short=7 HEAD) % count))
+  offset=$((16#$(git rev-parse HEAD | cut -c1-7) % count))
   stride=$((count / n > 0 ? count / n : 1))
   for ((k = 0; k < n && k < count; ++k)); do picked+=("${all[$(((offset + k * stride) % count))]}"); done
 elif [ $# -gt 0 ]; then
