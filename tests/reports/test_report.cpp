@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 namespace {
 
@@ -97,6 +98,28 @@ TEST_F(Report, AFailedRunLeavesThePreviousReportWholeAndNoTemporaryFolder) {
   ASSERT_EQ(run("report --quick -o " + out.string() + " crum-smooth").status, 0);
   EXPECT_FALSE(fs::exists(out / "images" / "crum-torus.marched.png"));
   EXPECT_TRUE(fs::exists(out / "images" / "crum-smooth.marched.png"));
+}
+
+// The report's exit status is the gate: 1 when a correct scene fails a check or a defect variant passes every
+// check (uncaught), though the report is written either way. Broken variants: an uncaught defect counted as
+// expected, a failing correct scene counted as expected.
+TEST_F(Report, ExitsOneWhenACorrectSceneFailsOrADefectGoesUncaught) {
+  ASSERT_EQ(run_shell(std::string(MARCHCHECK_BINARY) + " scenes --export crum-torus > " + (dir_ / "t.json").string()).status, 0);
+  const std::string exported = read(dir_ / "t.json");
+  ASSERT_NE(exported.find("\"limits\": {}"), std::string::npos);
+  // A limit no march can meet: the rays' norm error is ~2e-16, never below 0.
+  std::string failing = exported;
+  failing.replace(failing.find("\"limits\": {}"), 12, "\"limits\": {\"camera.ray_norm_err\": 0}");
+  std::ofstream(dir_ / "failing.json") << failing;
+  // Declared a defect variant, yet it passes every check.
+  std::string uncaught = exported;
+  uncaught.replace(0, 1, "{\"defects\": [\"none really\"], ");
+  std::ofstream(dir_ / "uncaught.json") << uncaught;
+  for (const auto& [file, status] : {std::pair{"t.json", 0}, std::pair{"failing.json", 1}, std::pair{"uncaught.json", 1}}) {
+    const CommandRun r = run("report --quick -o " + (dir_ / "out").string() + " " + (dir_ / file).string());
+    EXPECT_EQ(r.status, status) << file << ": " << r.output;
+    EXPECT_TRUE(fs::exists(dir_ / "out" / "index.html")) << file;
+  }
 }
 
 TEST_F(Report, RefusesToReplaceAFolderThatIsNotAReport) {
