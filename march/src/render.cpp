@@ -716,10 +716,8 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const
   if (scene.lights.size() > kMaxLights) throw std::invalid_argument("at most 16 lights");
   Context ctx{scene,  sdf::compile(scene.root, scene.time), Camera(scene.camera, w, h), {}, plan(scene, aovs, oracle),
               nullptr, oracle, {}, shade};
-  ctx.march.lipschitz = sdf::derive_info(scene.root, scene.time).lipschitz;
+  ctx.march = march_context(ctx.camera, sdf::derive_info(scene.root, scene.time).lipschitz);
   for (const auto& light : scene.lights) ctx.light_positions.push_back(light.position_at(scene.time));
-  ctx.march.footprint_at_0 = ctx.camera.footprint_at_0();
-  ctx.march.footprint_slope = ctx.camera.footprint_slope();
   if (ctx.pipeline.textures) soil_texture_path();
   if (!scene.meshes.empty()) ctx.meshes = std::make_unique<MeshOccluder>(scene.meshes);
 

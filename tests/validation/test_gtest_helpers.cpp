@@ -113,6 +113,10 @@ TEST(UserHelpers, AMarcherThatReportsItsOwnEvaluationsIsTrustedWithThem) {
   const SceneResult result = validate_subject(sphere_scene(), user_subject(unit_sphere, counted_by_marcher));
   EXPECT_EQ(metric_value(result.metrics, "march.over_max_steps"), metric_value(result.metrics, "hit.rays"));
   EXPECT_FALSE(result.pass());
+  // Every ray counts against it: the one named is the first sampled, through pixel (5, 5) of 640x360 on a 64x36
+  // grid. Broken variant: the last offender kept instead of the first.
+  EXPECT_EQ(result.offenders.at("march.over_max_steps").rfind("first: ray through pixel (5, 5),", 0), 0u)
+      << result.offenders.at("march.over_max_steps");
   // And with neither a normal function nor the marcher's own normals, normals are not judged.
   EXPECT_TRUE(std::isnan(metric_value(result.metrics, "normal.length_err_max")));
 }

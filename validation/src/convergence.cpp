@@ -17,10 +17,7 @@ ConvergenceRow study_row(const sdf::Scene& scene, double parameter, int rays_x, 
   const sdf::Tape tape = sdf::compile(scene.root, scene.time);
   const Reference ref(scene.intended ? *scene.intended : scene.root, scene.time);
   const march::Camera camera(scene.camera, scene.width, scene.height);
-  march::MarchContext ctx;
-  ctx.lipschitz = sdf::derive_info(scene.root, scene.time).lipschitz;
-  ctx.footprint_at_0 = camera.footprint_at_0();
-  ctx.footprint_slope = camera.footprint_slope();
+  const march::MarchContext ctx = march::march_context(camera, sdf::derive_info(scene.root, scene.time).lipschitz);
   const double max_dist = std::isfinite(scene.march.max_dist) ? scene.march.max_dist : 1e6;
   std::vector<double> errors;
   int decided = 0, rays = 0;

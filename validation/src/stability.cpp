@@ -314,9 +314,7 @@ int scale_errors(Run& r, const std::string& label, double scale, march::EpsMode 
   spec.position = {0, 0, 4 * scale};
   spec.fov_deg = 40;
   const march::Camera camera(spec, 64, 64);
-  march::MarchContext ctx;
-  ctx.footprint_at_0 = camera.footprint_at_0();
-  ctx.footprint_slope = camera.footprint_slope();
+  const march::MarchContext ctx = march::march_context(camera);
   MarchSettings ms;
   ms.eps_mode = naive ? march::EpsMode::absolute : mode;
   ms.hit_eps = naive ? 1e-3 : 1e-4;  // naive: the absolute epsilon that suits unit scenes

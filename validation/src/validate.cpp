@@ -69,15 +69,6 @@ bool is_exact_outside(const sdf::Node& n, double time) {
   }
 }
 
-// The march context of a field declared with Lipschitz bound L, seen through camera.
-march::MarchContext march_context(const march::Camera& camera, double lipschitz) {
-  march::MarchContext ctx;
-  ctx.lipschitz = lipschitz;
-  ctx.footprint_at_0 = camera.footprint_at_0();
-  ctx.footprint_slope = camera.footprint_slope();
-  return ctx;
-}
-
 // The scene's own field, marcher and estimators in arithmetic T.
 template <class T>
 Subject scene_subject(const sdf::Scene& scene) {
@@ -85,7 +76,7 @@ Subject scene_subject(const sdf::Scene& scene) {
   const auto tape = std::make_shared<const sdf::Tape>(sdf::compile(scene.root, scene.time));
   const sdf::FieldInfo info = sdf::derive_info(scene.root, scene.time);
   const auto ctx = std::make_shared<const march::MarchContext>(
-      march_context(march::Camera(scene.camera, scene.width, scene.height), info.lipschitz));
+      march::march_context(march::Camera(scene.camera, scene.width, scene.height), info.lipschitz));
   const march::TapeField field{tape.get()};
   const sdf::MarchSettings settings = scene.march;
   Subject s;
@@ -132,15 +123,18 @@ std::string ray_text(double px, double py, const march::Ray& ray, const MarchedR
   return out.str();
 }
 
-// The first offender of each counted metric, and the worst of each largest value.
+// The first offender of each counted metric, and the worst of each largest value. text() is called only for the
+// offender kept, so rays that change nothing cost no formatting.
 struct Offenders {
   std::map<std::string, std::pair<double, std::string>> by_metric;
-  void first(const std::string& metric, const std::string& text) {
-    by_metric.try_emplace(metric, 0.0, "first: " + text);
+  template <class Text>
+  void first(const std::string& metric, const Text& text) {
+    if (!by_metric.count(metric)) by_metric[metric] = {0.0, "first: " + text()};
   }
-  void largest(const std::string& metric, double value, const std::string& text) {
+  template <class Text>
+  void largest(const std::string& metric, double value, const Text& text) {
     const auto it = by_metric.find(metric);
-    if (it == by_metric.end() || value > it->second.first) by_metric[metric] = {value, "worst: " + text};
+    if (it == by_metric.end() || value > it->second.first) by_metric[metric] = {value, "worst: " + text()};
   }
 };
 
@@ -149,7 +143,7 @@ void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOpti
   const sdf::Node& intended = scene.intended ? *scene.intended : scene.root;
   const Reference ref(intended, scene.time);
   const march::Camera camera(scene.camera, scene.width, scene.height);
-  const march::MarchContext ctx = march_context(camera, subject.declared.lipschitz);
+  const march::MarchContext ctx = march::march_context(camera, subject.declared.lipschitz);
   const bool exact_outside = subject.exact_outside;
   // An estimate promises no distance, so its hits are judged by what the image can show: the set within the
   // pixel's footprint.
@@ -180,7 +174,7 @@ void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOpti
       const auto text = [&] { return ray_text(px, py, ray, rec, rh); };
       if (rec.evals > scene.march.max_steps) {
         ++over_steps;
-        offenders.first("march.over_max_steps", text());
+        offenders.first("march.over_max_steps", text);
       }
       if (rh.inside || rh.unknown) continue;
       // Grazing band: rays whose neighbours a hit threshold away disagree with them are left out.
@@ -201,7 +195,7 @@ void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOpti
       }
       if (rec.outcome == Outcome::miss_steps) {
         ++undecided;
-        offenders.first("hit.undecided", text());
+        offenders.first("hit.undecided", text);
       }
       const double t_m = rec.t * len;
       const double eps_m = static_cast<double>(march::hit_threshold<double>(scene.march, ctx, rec.t));
@@ -212,7 +206,7 @@ void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOpti
           judged_normals = true;
           const double length_err = std::abs(glm::length(*n_m) - 1);
           normal_length_err = std::max(normal_length_err, length_err);
-          offenders.largest("normal.length_err_max", length_err, text() + "; normal " + vec_text(*n_m));
+          offenders.largest("normal.length_err_max", length_err, [&] { return text() + "; normal " + vec_text(*n_m); });
         }
         // An upper bound on the hit point's distance to the true surface: the ray's own, then the probes
         // (the reference normal's reverse and the marched one's: exact where the surface is flat).
@@ -230,7 +224,7 @@ void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOpti
         if (inside && !just_past) upper = 0;  // deeper in the solid: the surface distance is unknown, the hit is wrong
         if ((inside && !just_past) || (rh.hit && t_m > rh.t + band && upper > allowed)) {
           ++overshoot;  // the march went through the first surface
-          offenders.first("hit.overshoot", text());
+          offenders.first("hit.overshoot", text);
           continue;
         }
         // A bound may be below the threshold farther from the surface than the threshold (where its gradient
@@ -247,14 +241,14 @@ void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOpti
         const double footprint = ctx.footprint_at_0 + ctx.footprint_slope * rec.t;
         if (upper > std::max(2 * allowed + band, estimate ? footprint : 0.0) && !in_shell()) {
           ++false_hit;  // nothing the reference knows is near the marched hit
-          offenders.first("hit.false_hit", text());
+          offenders.first("hit.false_hit", text);
           continue;
         }
         surface_dist_max = std::max(surface_dist_max, upper);
         // Only a field exact outside its solid promises hits within the threshold: a bound may stop farther.
         if (exact_outside) {
           surface_over_eps = std::max(surface_over_eps, upper / (allowed + 1e-300));
-          offenders.largest("hit.surface_dist_over_eps", upper / (allowed + 1e-300), text());
+          offenders.largest("hit.surface_dist_over_eps", upper / (allowed + 1e-300), text);
         }
         // A legitimate near-hit on a surface the ray itself passes by: nothing to compare t or the normal with.
         // The ray's own gap to the reference hit beyond 10x the nearest surface's distance means it meets the
@@ -264,8 +258,9 @@ void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOpti
         if (n_m) {
           const double a = std::acos(std::clamp(glm::dot(*n_m, rh.normal), -1.0, 1.0)) * 180 / std::numbers::pi;
           (at_edge ? edge_angle : angle).push_back(a);
-          offenders.largest(at_edge ? "normal.edge_angle_p99_deg" : "normal.angle_p99_deg", a,
-                            text() + "; normal " + vec_text(*n_m) + ", reference normal " + vec_text(rh.normal));
+          offenders.largest(at_edge ? "normal.edge_angle_p99_deg" : "normal.angle_p99_deg", a, [&] {
+            return text() + "; normal " + vec_text(*n_m) + ", reference normal " + vec_text(rh.normal);
+          });
         }
         const dvec3 p_r = ray.origin + dn * rh.t;
         surface_points.push_back({p_r, rh.t});
@@ -301,16 +296,16 @@ void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOpti
           };
           if (lit && v < 0.5) {
             ++false_shadow;
-            offenders.first("shadow.false_shadow", shadow_text());
+            offenders.first("shadow.false_shadow", shadow_text);
           }
           if (!lit && v >= 0.5) {
             ++false_lit;
-            offenders.first("shadow.false_lit", shadow_text());
+            offenders.first("shadow.false_lit", shadow_text);
           }
         }
       } else if (rec.outcome == Outcome::miss_far && rh.hit && rh.t < max_dist * 0.999) {
         ++false_miss;
-        offenders.first("hit.false_miss", text());
+        offenders.first("hit.false_miss", text);
       }
     }
   m["hit.rays"] = rays;
@@ -366,13 +361,13 @@ void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOpti
       const double f = subject.field(p);
       for (const double h : {1e-5 * scale, 1e-2 * scale, 0.3 * scale}) {
         const double slope = std::abs(subject.field(p + dir * h) - f) / h;
-        if (slope > lipschitz) {  // a new largest: the only one whose text is kept
+        lipschitz = std::max(lipschitz, slope);
+        offenders.largest("sdf.lipschitz_over_declared", slope, [&] {
           std::ostringstream out;
           out << std::setprecision(6) << "slope " << slope << " from " << vec_text(p) << " along " << vec_text(dir)
               << " over " << h;
-          offenders.largest("sdf.lipschitz_over_declared", slope, out.str());
-          lipschitz = slope;
-        }
+          return out.str();
+        });
       }
       if (!(ref.exact() || estimate) || rep > 1) continue;
       // Down the field's own gradient lies the nearest point of a field close to the reference's.
@@ -385,10 +380,12 @@ void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOpti
       } else {
         const double over = std::abs(f) / declared - near.distance;
         overestimate = std::max(overestimate, over);
-        std::ostringstream out;
-        out << std::setprecision(6) << "at " << vec_text(p) << ": f = " << f << ", a surface " << near.distance
-            << " away along " << vec_text(near.toward);
-        offenders.largest("sdf.overestimate_max", over, out.str());
+        offenders.largest("sdf.overestimate_max", over, [&] {
+          std::ostringstream out;
+          out << std::setprecision(6) << "at " << vec_text(p) << ": f = " << f << ", a surface " << near.distance
+              << " away along " << vec_text(near.toward);
+          return out.str();
+        });
       }
     }
   }

@@ -2,6 +2,7 @@
 // interpolation, orthographic; look-at or orbit pose. Pixel (x, y) has its centre at (x + 0.5, y + 0.5), y down.
 #pragma once
 
+#include "marchcheck/march/marcher.hpp"
 #include "marchcheck/sdf/scene.hpp"
 
 #include <glm/glm.hpp>
@@ -44,5 +45,15 @@ class Camera {
   glm::dvec3 eye_, right_, up_, forward_;
   double fx_, fy_, cx_, cy_;
 };
+
+// What a march through this camera needs beyond its settings: the pixel footprint (eps_mode pixel) and the field's
+// declared Lipschitz bound (the scaled marcher).
+inline MarchContext march_context(const Camera& camera, double lipschitz = 1) {
+  MarchContext c;
+  c.lipschitz = lipschitz;
+  c.footprint_at_0 = camera.footprint_at_0();
+  c.footprint_slope = camera.footprint_slope();
+  return c;
+}
 
 }  // namespace marchcheck::march

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "marchcheck/march/camera.hpp"
+#include "marchcheck/march/normals.hpp"
 #include "marchcheck/validation/lipschitz.hpp"
 #include "marchcheck/validation/mesh_reference.hpp"
 #include "marchcheck/validation/reference.hpp"
@@ -103,10 +104,9 @@ template <class Field>
   RegionSampler sampler{region, std::mt19937(seed)};
   for (int i = 0; i < samples; ++i) {
     const glm::dvec3 p = sampler.next();
-    const double value = value_at(f, p), h = 1e-6 * (1 + glm::length(p));
-    const glm::dvec3 grad(value_at(f, p + glm::dvec3(h, 0, 0)) - value_at(f, p - glm::dvec3(h, 0, 0)),
-                          value_at(f, p + glm::dvec3(0, h, 0)) - value_at(f, p - glm::dvec3(0, h, 0)),
-                          value_at(f, p + glm::dvec3(0, 0, h)) - value_at(f, p - glm::dvec3(0, 0, h)));
+    const double value = value_at(f, p);
+    const glm::dvec3 grad =
+        march::central_normal([&f](glm::dvec3 q) { return value_at(f, q); }, p, 1e-6 * (1 + glm::length(p))).n;
     NearestSurface near;
     probe_nearest(ref, p, {value > 0 ? -grad : grad}, near);
     if (near.inside != (value < 0) && std::abs(value) > tolerance && near.distance > tolerance)
