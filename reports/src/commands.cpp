@@ -171,7 +171,8 @@ int run_stability(const StabilityCommand& cmd, std::ostream& out, std::ostream& 
       return kBadInput;
     }
   }
-  const auto cases = validation::run_stability({cmd.naive, cmd.full});
+  const validation::StabilityOptions options{cmd.naive ? "naive" : "", cmd.full};
+  const auto cases = validation::run_stability(options);
   int stable = 0;
   out << std::left << std::setw(34) << "case" << std::setw(10) << "result" << "numbers\n";
   for (const auto& c : cases) {
@@ -192,7 +193,7 @@ int run_stability(const StabilityCommand& cmd, std::ostream& out, std::ostream& 
   out << stable << " of " << cases.size() << " cases stable" << (cmd.naive ? " (naive variants)" : "") << "\n";
   if (cmd.json) {
     try {
-      march::write_bytes_atomically(*cmd.json, stability_json(cases, {cmd.naive, cmd.full}));
+      march::write_bytes_atomically(*cmd.json, stability_json(cases, options));
     } catch (const std::exception& e) {
       err << "marchcheck stability: " << e.what() << "\n";
       return kBadInput;

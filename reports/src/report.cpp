@@ -427,14 +427,17 @@ class Builder {
   void stability_section(std::ostringstream& h) const {
     const auto stable = std::count_if(stability_.begin(), stability_.end(), [](const auto& c) { return c.stable; });
     h << "<h2 id=\"stability\">Hard cases (<code>marchcheck stability</code>): " << stable << " of " << stability_.size()
-      << " stable</h2>\n<table class=\"stability\"><tr><th class=\"l\">case</th><th class=\"l\">result</th><th class=\"l\">checks</th>"
+      << " stable</h2>\n<p>Each clause of a criterion fails alone on a broken variant of its own (<code>tests/validation/"
+         "test_stability.cpp</code>), so none can stop checking unseen.</p>\n<table class=\"stability\"><tr><th class=\"l\">case</th><th class=\"l\">result</th><th class=\"l\">checks</th>"
          "<th class=\"l\">stable when</th><th class=\"l\">numbers</th></tr>\n";
     for (const auto& c : stability_) {
-      std::string numbers;
+      std::string numbers, clauses;
       for (const auto& [k, v] : c.metrics) numbers += (numbers.empty() ? "" : ", ") + escape(k) + " " + number(v, 3);
+      for (const auto& clause : c.clauses) clauses += (clauses.empty() ? "" : ", ") + escape(clause);
       h << "<tr><td class=\"l\">" << escape(c.name) << "</td><td class=\"l " << (c.stable ? "pass\">stable" : "fail\">UNSTABLE")
         << "</td><td class=\"l\">" << escape(c.checks) << "</td><td class=\"l\">" << escape(c.criterion)
-        << (c.stable ? "" : "<br><b>" + escape(c.detail) + "</b>") << "</td><td class=\"l\">" << numbers << "</td></tr>\n";
+        << "<br><small>clauses: " << clauses << "</small>" << (c.stable ? "" : "<br><b>" + escape(c.detail) + "</b>")
+        << "</td><td class=\"l\">" << numbers << "</td></tr>\n";
     }
     h << "</table>\n";
   }

@@ -66,10 +66,13 @@ std::string stability_json(const std::vector<validation::StabilityCase>& cases, 
   bool all_stable = true;
   for (const auto& c : cases) {
     all_stable = all_stable && c.stable;
-    list.push_back({{"name", c.name}, {"checks", c.checks}, {"criterion", c.criterion}, {"naive_variant", c.naive},
-                    {"stable", c.stable}, {"detail", c.detail}, {"metrics", metrics_object(c.metrics)}});
+    nlohmann::ordered_json variants = nlohmann::ordered_json::array();
+    for (const auto& v : c.variants) variants.push_back({{"name", v.name}, {"breaks", v.breaks}, {"what", v.what}});
+    list.push_back({{"name", c.name},         {"checks", c.checks},   {"criterion", c.criterion},
+                    {"clauses", c.clauses},   {"variants", variants}, {"stable", c.stable},
+                    {"failed", c.failed},     {"detail", c.detail},   {"metrics", metrics_object(c.metrics)}});
   }
-  return nlohmann::ordered_json{{"kind", "stability"}, {"naive", options.naive}, {"full", options.full},
+  return nlohmann::ordered_json{{"kind", "stability"}, {"variant", options.variant}, {"full", options.full},
                                 {"stable", all_stable}, {"cases", list}}
              .dump(2) +
          "\n";

@@ -1,9 +1,11 @@
-// The hard-case battery: every case stable on the marchers as they are, and every case unstable on its naive
-// variant (so each criterion can fail); a few cases' numbers checked against their closed forms.
+// The hard-case battery: every case stable on the marchers as they are, unstable on its naive variant, and each
+// clause of its criterion failing alone on a variant of its own (so no clause can stop checking unseen); a few
+// cases' numbers checked against their closed forms.
 #include "marchcheck/validation/stability.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -13,17 +15,35 @@ namespace {
 
 class Battery : public ::testing::TestWithParam<std::string> {};
 
-// One test per case (one process each under ctest): stable as the marchers are, unstable on its naive variant.
-TEST_P(Battery, StableAndCatchesItsNaiveVariant) {
+StabilityOptions variant(const std::string& name) {
+  StabilityOptions o;
+  o.variant = name;
+  return o;
+}
+
+// One test per case (one process each under ctest): stable as the marchers are, unstable on its naive variant,
+// and every clause failing alone on its own variant, which fails no other clause and no precondition.
+TEST_P(Battery, StableAndEachClauseFailsAloneOnItsVariant) {
   const auto c = run_stability_case(GetParam());
   EXPECT_TRUE(c.stable) << c.detail;
+  EXPECT_TRUE(c.failed.empty());
   EXPECT_FALSE(c.metrics.empty()) << "a case without numbers";
   for (const auto& [name, value] : c.metrics) EXPECT_FALSE(std::isnan(value)) << name;
-  StabilityOptions naive;
-  naive.naive = true;
-  const auto broken = run_stability_case(GetParam(), naive);
-  EXPECT_FALSE(broken.stable) << "the naive variant (" << broken.naive << ") passed: the criterion cannot fail";
-  EXPECT_FALSE(broken.detail.empty());
+  ASSERT_FALSE(c.clauses.empty());
+  ASSERT_FALSE(c.variants.empty());
+  EXPECT_EQ(c.variants.front().name, "naive");
+  const auto naive = run_stability_case(GetParam(), variant("naive"));
+  EXPECT_FALSE(naive.stable) << "the naive variant (" << c.variants.front().what << ") passed: the criterion cannot fail";
+  EXPECT_FALSE(naive.detail.empty());
+  for (const std::string& clause : c.clauses)
+    EXPECT_TRUE(std::any_of(c.variants.begin(), c.variants.end(), [&](const auto& v) { return v.breaks == clause; }))
+        << "no variant fails clause " << clause << " alone";
+  for (const StabilityVariant& v : c.variants) {
+    if (v.breaks.empty()) continue;  // a naive variant that fails several clauses
+    EXPECT_NE(std::find(c.clauses.begin(), c.clauses.end(), v.breaks), c.clauses.end()) << v.name << ": no such clause";
+    const auto broken = run_stability_case(GetParam(), variant(v.name));
+    EXPECT_EQ(broken.failed, std::vector<std::string>{v.breaks}) << v.name << " (" << v.what << "): " << broken.detail;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, Battery, ::testing::ValuesIn(stability_case_names()),
@@ -41,9 +61,10 @@ TEST(Stability, HasAtLeastFortyUniqueDottedCasesEachStatingItsCriterion) {
   for (const auto& name : names) {
     EXPECT_NE(name.find('.'), std::string::npos) << name;
     const auto c = run_stability_case(name);
-    EXPECT_FALSE(c.checks.empty() || c.criterion.empty() || c.naive.empty()) << name;
+    EXPECT_FALSE(c.checks.empty() || c.criterion.empty() || c.variants.front().what.empty()) << name;
   }
   EXPECT_THROW(run_stability_case("no.such.case"), std::invalid_argument);
+  EXPECT_THROW(run_stability_case("start.on", variant("no_such_variant")), std::invalid_argument);
 }
 
 TEST(Stability, GrazingStepsFollowTheLawAndTheNaiveBudgetEndsUndecided) {
@@ -52,9 +73,7 @@ TEST(Stability, GrazingStepsFollowTheLawAndTheNaiveBudgetEndsUndecided) {
     // The law counts steps near the sphere: within 10% once b is small (approach and exit add a few steps).
     EXPECT_NEAR(c.metrics.at("steps_over_law"), 1.0, k >= 2 ? 0.1 : 0.2) << k;
   }
-  StabilityOptions naive;
-  naive.naive = true;
-  const auto c = run_stability_case("grazing.b1e-5", naive);
+  const auto c = run_stability_case("grazing.b1e-5", variant("naive"));
   EXPECT_LT(c.metrics.at("steps"), c.metrics.at("law"));
   EXPECT_NE(c.detail.find("undecided"), std::string::npos) << c.detail;
 }
@@ -97,9 +116,7 @@ TEST(Stability, PlainTracingOvershootsEveryNonLipschitzFieldAndTheMeasuredLRemov
 TEST(Stability, BadRaysCostNothingAndTheNaiveLoopSpendsEveryStepOnThem) {
   const auto c = run_stability_case("input.batch_cost");
   EXPECT_LE(c.metrics.at("evals_ratio"), 1.0) << "rejected up front, bad rays cost no evaluation";
-  StabilityOptions naive;
-  naive.naive = true;
-  EXPECT_GT(run_stability_case("input.batch_cost", naive).metrics.at("evals_ratio"), 2.5);
+  EXPECT_GT(run_stability_case("input.batch_cost", variant("naive")).metrics.at("evals_ratio"), 2.5);
 }
 
 }  // namespace

@@ -63,18 +63,25 @@ std::vector<ConvergenceRow> eps_study(const sdf::Scene& scene, const std::vector
   return rows;
 }
 
-std::vector<GrazingRow> grazing_study(const std::vector<double>& clearances, int max_steps) {
+march::MarchSettings grazing_settings(double clearance, int max_steps) {
+  march::MarchSettings s;
+  s.max_steps = max_steps;
+  s.max_dist = 10;
+  s.hit_eps = clearance * 1e-3;
+  return s;
+}
+
+GrazingRow grazing_row(double clearance, const march::MarchSettings& settings) {
   const sdf::Tape unit = sdf::compile(sdf::sphere(1));
+  // From far enough that the approach is straight, to just past the sphere's far side.
+  const auto rec = march::march<double>(march::TapeField{&unit}, glm::dvec3(0, 1 + clearance, -5), glm::dvec3(0, 0, 1),
+                                        settings, {});
+  return {clearance, rec.steps, std::numbers::pi * std::sqrt(2 / clearance), rec.outcome};
+}
+
+std::vector<GrazingRow> grazing_study(const std::vector<double>& clearances, int max_steps) {
   std::vector<GrazingRow> rows;
-  for (double b : clearances) {
-    march::MarchSettings s;
-    s.max_steps = max_steps;
-    s.max_dist = 10;
-    s.hit_eps = b * 1e-3;
-    // From far enough that the approach is straight, to just past the sphere's far side.
-    const auto rec = march::march<double>(march::TapeField{&unit}, glm::dvec3(0, 1 + b, -5), glm::dvec3(0, 0, 1), s, {});
-    rows.push_back({b, rec.steps, std::numbers::pi * std::sqrt(2 / b), rec.outcome});
-  }
+  for (double b : clearances) rows.push_back(grazing_row(b, grazing_settings(b, max_steps)));
   return rows;
 }
 

@@ -21,8 +21,8 @@ std::string validate_json(const std::vector<validation::SceneResult>& results);
 // {"kind": "sweep", scene, axes, error_metric, targets, cheapest_meeting, points: [{settings, pass,
 // pareto_evals, pareto_seconds, meets_targets, metrics}]}
 std::string sweep_json(const validation::SweepResult& result);
-// {"kind": "stability", naive, full, stable, cases: [{name, checks, criterion, naive_variant, stable, detail,
-// metrics}]}
+// {"kind": "stability", variant, full, stable, cases: [{name, checks, criterion, clauses, variants: [{name, breaks,
+// what}], stable, failed, detail, metrics}]}
 std::string stability_json(const std::vector<validation::StabilityCase>& cases, const validation::StabilityOptions& options);
 
 // One row per combination: its settings, pass, the front marks, then every metric any point has.

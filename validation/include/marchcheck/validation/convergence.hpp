@@ -32,5 +32,8 @@ struct GrazingRow {
 };
 // Double-precision sphere tracing past a unit sphere (hit_eps below every clearance), at most max_steps each.
 std::vector<GrazingRow> grazing_study(const std::vector<double>& clearances, int max_steps = 1 << 24);
+// The study's settings for clearance b (hit_eps b / 1000, so that any hit is wrong), and its one ray.
+march::MarchSettings grazing_settings(double clearance, int max_steps);
+GrazingRow grazing_row(double clearance, const march::MarchSettings& settings);
 
 }  // namespace marchcheck::validation
