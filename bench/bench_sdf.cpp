@@ -5,7 +5,6 @@
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/sdf/tape.hpp"
-#include "marchcheck/validation/mesh_loader.hpp"
 
 #include <benchmark/benchmark.h>
 #include <glm/glm.hpp>
@@ -91,7 +90,7 @@ BENCHMARK(BM_LeeFlatTape);
 BENCHMARK(BM_LeeFlatJsonTape);
 
 sdf::Tape scene_tape(const std::string& name) {
-  const sdf::Scene scene = sdf::builtin_scene(name, marchcheck::validation::mesh_loader());
+  const sdf::Scene scene = sdf::builtin_scene(name);
   return sdf::compile(scene.root, scene.time);  // time: animated scenes
 }
 

@@ -14,7 +14,7 @@ struct MeshOccluder::Impl {
   std::vector<int> materials;  // per geometry id
 };
 
-MeshOccluder::MeshOccluder(const std::vector<sdf::TriangleMesh>& meshes) : impl_(std::make_unique<Impl>()) {
+MeshOccluder::MeshOccluder(const std::vector<sdf::SceneMesh>& meshes) : impl_(std::make_unique<Impl>()) {
   impl_->device = rtcNewDevice("threads=1");
   if (!impl_->device) throw std::runtime_error("cannot start Embree");
   impl_->scene = rtcNewScene(impl_->device);

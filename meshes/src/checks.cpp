@@ -140,4 +140,16 @@ MeshReport inspect(const Mesh& mesh) {
   return report;
 }
 
+std::string solid_problem(const MeshReport& r) {
+  const auto count = [](int n, const char* what) { return std::to_string(n) + " " + what; };
+  if (r.degenerate_faces > 0)
+    return count(r.degenerate_faces, "degenerate faces (a repeated index, or zero area up to rounding)");
+  if (!r.closed) return r.boundary_edges > 0 ? "open: " + count(r.boundary_edges, "boundary edges") : "no triangles";
+  if (r.nonmanifold_edges > 0) return "non-manifold: " + count(r.nonmanifold_edges, "edges with three or more faces");
+  if (r.nonmanifold_vertices > 0)
+    return "non-manifold: " + count(r.nonmanifold_vertices, "pinched vertices (their faces form no single fan)");
+  if (!r.consistently_oriented) return "inconsistently oriented: faces sharing an edge run along it the same way";
+  return "";
+}
+
 }  // namespace marchcheck::meshes

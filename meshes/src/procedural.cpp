@@ -1,6 +1,6 @@
 #include "marchcheck/meshes/procedural.hpp"
 
-#include "closest_point.hpp"
+#include "marchcheck/meshes/closest_point.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
@@ -32,8 +32,8 @@ double sphere_error(const Mesh& mesh, double radius) {
   double error = 0;
   for (const dvec3& v : mesh.vertices) error = std::max(error, std::fabs(glm::length(v) - radius));
   for (const Triangle& t : mesh.triangles) {
-    const dvec3 q = detail::closest_point_on_triangle(dvec3(0), mesh.vertices[t[0]], mesh.vertices[t[1]],
-                                                      mesh.vertices[t[2]]);
+    TriangleFeature unused;
+    const dvec3 q = closest_on_triangle(dvec3(0), {mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]}, unused);
     error = std::max(error, radius - glm::length(q));
   }
   return error;
@@ -170,8 +170,9 @@ ProceduralMesh box(glm::dvec3 half_size) {
   for (int i = 0; i < 8; ++i)
     mesh.vertices.emplace_back((i & 1) ? half_size.x : -half_size.x, (i & 2) ? half_size.y : -half_size.y,
                                (i & 4) ? half_size.z : -half_size.z);
-  mesh.triangles = {{0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}, {0, 1, 5}, {0, 5, 4},
-                    {2, 6, 7}, {2, 7, 3}, {0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}};
+  // Two counter-clockwise triangles per face seen from outside: -z, +z, -y, +y, -x, +x.
+  mesh.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                    {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
   return {std::move(mesh), 0};
 }
 

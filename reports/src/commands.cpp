@@ -7,7 +7,6 @@
 #include "command_support.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
-#include "marchcheck/validation/mesh_loader.hpp"
 #include "marchcheck/validation/stability.hpp"
 #include "marchcheck/validation/validate.hpp"
 
@@ -61,7 +60,7 @@ void apply_size(sdf::Scene& scene, const std::string& size) {
 int run_scenes(const ScenesCommand& cmd, std::ostream& out, std::ostream& err) {
   if (cmd.export_name) {
     try {
-      out << sdf::scene_to_json(sdf::builtin_scene(*cmd.export_name, validation::mesh_loader()));
+      out << sdf::scene_to_json(sdf::builtin_scene(*cmd.export_name));
       return 0;
     } catch (const sdf::SceneError& e) {
       err << "marchcheck scenes: " << e.what() << "\n";
@@ -70,7 +69,7 @@ int run_scenes(const ScenesCommand& cmd, std::ostream& out, std::ostream& err) {
   }
   nlohmann::ordered_json list = nlohmann::ordered_json::array();
   for (const auto& name : sdf::builtin_scene_names()) {
-    const auto scene = sdf::builtin_scene(name, validation::mesh_loader());
+    const auto scene = sdf::builtin_scene(name);
     const auto info = sdf::derive_info(scene.root, scene.time);
     list.push_back({{"name", name},
                     {"description", scene.description},
@@ -101,7 +100,7 @@ int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err) {
   sdf::Scene scene;
   std::vector<march::Aov> aovs;
   try {
-    scene = sdf::resolve_scene(cmd.scene, validation::mesh_loader());
+    scene = sdf::resolve_scene(cmd.scene);
     apply_sets(scene, cmd.sets);
     if (cmd.size) apply_size(scene, *cmd.size);
     if (!cmd.aovs.empty()) aovs = march::parse_aovs(cmd.aovs);
@@ -136,7 +135,7 @@ int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& er
     for (const auto& name : cmd.scenes) {
       const auto names = name == "all" ? sdf::builtin_scene_names() : std::vector<std::string>{name};
       for (const auto& n : names) {
-        scenes.push_back(sdf::resolve_scene(n, validation::mesh_loader()));
+        scenes.push_back(sdf::resolve_scene(n));
         apply_sets(scenes.back(), cmd.sets);
         sdf::compile(scenes.back().root, scenes.back().time);
       }
@@ -247,7 +246,7 @@ int run_sweep(const SweepCommand& cmd, std::ostream& out, std::ostream& err) {
   std::vector<validation::SweepAxis> axes;
   validation::SweepOptions options;
   try {
-    scene = sdf::resolve_scene(cmd.scene, validation::mesh_loader());
+    scene = sdf::resolve_scene(cmd.scene);
     apply_sets(scene, cmd.sets);
     sdf::compile(scene.root, scene.time);
     for (const auto& v : cmd.vary) axes.push_back(validation::parse_sweep_axis(v));

@@ -9,7 +9,6 @@
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/validation/convergence.hpp"
-#include "marchcheck/validation/mesh_loader.hpp"
 #include "marchcheck/validation/stability.hpp"
 #include "marchcheck/validation/sweep.hpp"
 #include "marchcheck/validation/validate.hpp"
@@ -504,7 +503,7 @@ int run_report(const ReportCommand& cmd, std::ostream& out, std::ostream& err) {
   if (!dir.has_filename()) dir = dir.parent_path();  // "out/" names the folder "out"
   try {
     for (const auto& name : cmd.scenes.empty() ? sdf::builtin_scene_names() : cmd.scenes) {
-      scenes.push_back(sdf::resolve_scene(name, validation::mesh_loader()));
+      scenes.push_back(sdf::resolve_scene(name));
       apply_sets(scenes.back(), cmd.sets);
       sdf::compile(scenes.back().root, scenes.back().time);
     }

@@ -2,6 +2,8 @@
 
 #include "marchcheck/sdf/scene_file.hpp"
 
+#include "marchcheck/meshes/procedural.hpp"
+
 #include <cmath>
 #include <functional>
 #include <utility>
@@ -361,15 +363,9 @@ Scene flafla_torus() {
   return s;
 }
 
-TriangleMesh box_mesh(std::string name, glm::dvec3 c, glm::dvec3 h, int material) {
-  TriangleMesh m;
-  m.name = std::move(name);
-  m.material = material;
-  for (int i = 0; i < 8; ++i)
-    m.vertices.push_back(c + h * glm::dvec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1));
-  // Two counter-clockwise triangles per face, seen from outside.
-  m.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
-                 {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+SceneMesh box_mesh(std::string name, glm::dvec3 c, glm::dvec3 h, int material) {
+  SceneMesh m{meshes::box(h).mesh, std::move(name), material};
+  for (auto& v : m.vertices) v += c;
   return m;
 }
 
@@ -514,12 +510,12 @@ std::vector<std::string> builtin_scene_names() {
   return names;
 }
 
-Scene builtin_scene(const std::string& name, const MeshLoader& meshes) {
+Scene builtin_scene(const std::string& name, const MeshLoader& loader) {
   for (const auto& [n, make_scene] : registry())
     if (n == name) {
       Scene s = make_scene();
       try {
-        load_meshes(s, meshes);
+        load_meshes(s, loader);
       } catch (const SceneError& e) {
         throw SceneError(name + ": " + e.what());
       }
@@ -530,9 +526,9 @@ Scene builtin_scene(const std::string& name, const MeshLoader& meshes) {
   throw SceneError(name + ": not a built-in scene (" + names + ") and not a scene file path ending in .json");
 }
 
-Scene resolve_scene(const std::string& name_or_path, const MeshLoader& meshes) {
-  if (name_or_path.size() > 5 && name_or_path.ends_with(".json")) return load_scene_file(name_or_path, meshes);
-  return builtin_scene(name_or_path, meshes);
+Scene resolve_scene(const std::string& name_or_path, const MeshLoader& loader) {
+  if (name_or_path.size() > 5 && name_or_path.ends_with(".json")) return load_scene_file(name_or_path, loader);
+  return builtin_scene(name_or_path, loader);
 }
 
 }  // namespace marchcheck::sdf

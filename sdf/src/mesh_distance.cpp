@@ -1,5 +1,7 @@
 #include "marchcheck/sdf/mesh_distance.hpp"
 
+#include "marchcheck/meshes/checks.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -11,10 +13,6 @@ namespace marchcheck::sdf {
 namespace {
 
 using glm::dvec3;
-
-std::string edge_name(std::uint32_t a, std::uint32_t b) {
-  return "(" + std::to_string(a) + ", " + std::to_string(b) + ")";
-}
 
 // Angle at corner a of triangle abc.
 double corner_angle(dvec3 a, dvec3 b, dvec3 c) {
@@ -36,40 +34,31 @@ struct BinaryNode {
 
 }  // namespace
 
-MeshDistance::MeshDistance(const TriangleMesh& mesh) : mesh_(mesh) {
+MeshDistance::MeshDistance(const meshes::Mesh& mesh) : mesh_(mesh) {
   const auto& vs = mesh.vertices;
   const auto& ts = mesh.triangles;
-  if (ts.empty()) throw MeshShapeError("the mesh has no triangles");
+  meshes::MeshReport report;
+  try {
+    report = meshes::inspect(mesh);
+  } catch (const meshes::MeshError& e) {  // an index past the vertices
+    throw MeshShapeError(e.what());
+  }
+  if (const std::string problem = meshes::solid_problem(report); !problem.empty()) throw MeshShapeError(problem);
+  if (!report.outward) throw MeshShapeError("the mesh encloses a negative volume: it is inside out");
   std::vector<dvec3> face_normal(ts.size());
   std::vector<dvec3> vertex_normal(vs.size(), dvec3(0));
-  // Each directed edge and the face it belongs to: a closed, consistently oriented mesh has every edge once in
-  // each direction.
+  // Each directed edge and its face: a solid has every edge once in each direction, so an edge's twin is the face
+  // across it.
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> directed;
-  double volume6 = 0;
   for (std::uint32_t f = 0; f < ts.size(); ++f) {
     const auto& t = ts[f];
-    for (int i = 0; i < 3; ++i)
-      if (t[i] >= vs.size())
-        throw MeshShapeError("triangle " + std::to_string(f) + " indexes vertex " + std::to_string(t[i]) + " of " +
-                             std::to_string(vs.size()));
     const dvec3 a = vs[t[0]], b = vs[t[1]], c = vs[t[2]];
-    const dvec3 n = glm::cross(b - a, c - a);
-    if (!(glm::length(n) > 0)) throw MeshShapeError("triangle " + std::to_string(f) + " has zero area");
-    face_normal[f] = glm::normalize(n);
-    volume6 += glm::dot(a, glm::cross(b, c));
+    face_normal[f] = glm::normalize(glm::cross(b - a, c - a));
     for (int i = 0; i < 3; ++i) {
-      const std::uint32_t from = t[i], to = t[(i + 1) % 3];
-      if (!directed.emplace(std::pair{from, to}, f).second)
-        throw MeshShapeError("edge " + edge_name(from, to) +
-                             " is used twice in the same direction: non-manifold or inconsistently oriented");
+      directed.emplace(std::pair{t[i], t[(i + 1) % 3]}, f);
       vertex_normal[t[i]] += corner_angle(vs[t[i]], vs[t[(i + 1) % 3]], vs[t[(i + 2) % 3]]) * face_normal[f];
     }
   }
-  for (const auto& [edge, f] : directed)
-    if (!directed.contains({edge.second, edge.first}))
-      throw MeshShapeError("edge " + edge_name(edge.first, edge.second) +
-                           " has no twin running the other way: the mesh is open or inconsistently oriented");
-  if (!(volume6 > 0)) throw MeshShapeError("the mesh encloses a negative volume: it is inside out");
 
   // Median split on the longest axis of the centroids' box, at a multiple of the leaf width so leaves are full.
   std::vector<dvec3> centroid(ts.size());

@@ -592,7 +592,7 @@ std::string scene_to_json(const Scene& scene) {
     for (const auto& m : scene.meshes) {
       json vertices = json::array(), triangles = json::array();
       for (const auto& v : m.vertices) vertices.push_back(vec3_json(v));
-      for (const auto& t : m.triangles) triangles.push_back({t.x, t.y, t.z});
+      for (const auto& t : m.triangles) triangles.push_back({t[0], t[1], t[2]});
       json mj = {{"name", m.name}, {"vertices", vertices}, {"triangles", triangles}};
       if (m.material >= 0) mj["material"] = scene.materials.at(static_cast<size_t>(m.material)).name;
       meshes.push_back(mj);
@@ -613,7 +613,7 @@ void load_node_meshes(Node& n, const MeshLoader& loader, const std::string& path
     auto& shared = loaded[n.source];
     if (!shared) {
       if (!loader)
-        fail(path + "/mesh", "'" + n.source + "': no mesh loader to read it with (the sdf module reads no mesh formats)");
+        fail(path + "/mesh", "'" + n.source + "': no mesh loader to read it with (meshes are off here)");
       try {
         shared = std::make_shared<const MeshDistance>(loader(n.source));
       } catch (const std::exception& e) {
@@ -638,7 +638,7 @@ void load_meshes(Scene& scene, const MeshLoader& loader) {
   if (scene.intended) load_node_meshes(*scene.intended, loader, "/intended_sdf", loaded);
 }
 
-Scene scene_from_json(std::string_view text, const std::string& source, const MeshLoader& meshes) {
+Scene scene_from_json(std::string_view text, const std::string& source, const MeshLoader& loader) {
   json j;
   try {
     j = json::parse(text.begin(), text.end());
@@ -704,7 +704,7 @@ Scene scene_from_json(std::string_view text, const std::string& source, const Me
         const json& mj = j["meshes"][i];
         const std::string where = "/meshes/" + std::to_string(i);
         check_keys(mj, where, {"name", "vertices", "triangles", "material"});
-        TriangleMesh mesh;
+        SceneMesh mesh;
         if (mj.contains("name")) {
           if (!mj["name"].is_string()) fail(where + "/name", "expected a string");
           mesh.name = mj["name"].get<std::string>();
@@ -718,9 +718,9 @@ Scene scene_from_json(std::string_view text, const std::string& source, const Me
           const json& tri = mj["triangles"][t];
           if (!tri.is_array() || tri.size() != 3) fail(tw, "expected 3 vertex indices");
           const int hi = static_cast<int>(mesh.vertices.size()) - 1;
-          mesh.triangles.push_back({static_cast<unsigned>(integer(tri[0], tw + "/0", 0, hi)),
-                                    static_cast<unsigned>(integer(tri[1], tw + "/1", 0, hi)),
-                                    static_cast<unsigned>(integer(tri[2], tw + "/2", 0, hi))});
+          mesh.triangles.push_back({static_cast<std::uint32_t>(integer(tri[0], tw + "/0", 0, hi)),
+                                    static_cast<std::uint32_t>(integer(tri[1], tw + "/1", 0, hi)),
+                                    static_cast<std::uint32_t>(integer(tri[2], tw + "/2", 0, hi))});
         }
         if (mesh.triangles.empty()) fail(where, "needs at least one triangle");
         if (mj.contains("material")) {
@@ -738,7 +738,7 @@ Scene scene_from_json(std::string_view text, const std::string& source, const Me
     if (!j.contains("sdf")) fail("", "missing \"sdf\" (the scene's shape tree)");
     scene.root = node_from_json(j["sdf"], "/sdf", scene, source, 0);
     if (j.contains("intended_sdf")) scene.intended = node_from_json(j["intended_sdf"], "/intended_sdf", scene, source, 0);
-    load_meshes(scene, meshes);
+    load_meshes(scene, loader);
     if (auto error = validate_tree(scene.root); !error.empty()) throw SceneError("/sdf" + error);
     if (scene.intended)
       if (auto error = validate_tree(*scene.intended); !error.empty()) throw SceneError("/intended_sdf" + error);
@@ -748,12 +748,12 @@ Scene scene_from_json(std::string_view text, const std::string& source, const Me
   }
 }
 
-Scene load_scene_file(const std::string& path, const MeshLoader& meshes) {
+Scene load_scene_file(const std::string& path, const MeshLoader& loader) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path + ": cannot open the scene file");
   std::ostringstream text;
   text << in.rdbuf();
-  Scene scene = scene_from_json(text.str(), path, meshes);
+  Scene scene = scene_from_json(text.str(), path, loader);
   // Output, result files and the report name scenes: one without a name goes by its file's.
   if (scene.name.empty()) scene.name = std::filesystem::path(path).stem().string();
   return scene;

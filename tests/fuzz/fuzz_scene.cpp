@@ -12,11 +12,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   using namespace marchcheck::sdf;
   Scene scene;
   try {
-    scene = scene_from_json(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.json");
+    // No mesh loader: fuzzed scenes must not read files or generate meshes (the mesh fuzzers cover those).
+    scene = scene_from_json(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.json", {});
   } catch (const SceneError&) {
     return 0;
   }
-  (void)scene_from_json(scene_to_json(scene), "exported.json");  // must not throw: export is loadable
+  (void)scene_from_json(scene_to_json(scene), "exported.json", {});  // must not throw: export is loadable
   Tape tape;
   try {
     tape = compile(scene.root, scene.time);

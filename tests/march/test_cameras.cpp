@@ -1,7 +1,6 @@
 // Every camera model and pose reprojects: the ray through pixel (x, y) projects back to (x, y).
 #include "marchcheck/march/camera.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
-#include "marchcheck/validation/mesh_loader.hpp"
 
 #include <gtest/gtest.h>
 
@@ -201,7 +200,7 @@ TEST(Cameras, PinholeCornerRayIsTheHandComputedOne) {
 
 TEST(Camera, BatchedRaysAreTheOneRayResultsBitForBit) {
   for (const std::string& name : sdf::builtin_scene_names()) {
-    const sdf::Scene s = sdf::builtin_scene(name, validation::mesh_loader());
+    const sdf::Scene s = sdf::builtin_scene(name);
     const Camera cam(s.camera, 1280, 720);
     EXPECT_EQ(batched_ray_mismatches(cam, cam), 0) << name;
   }

@@ -325,7 +325,7 @@ TEST(MeshOcclusion, MeshAndFieldHideEachOtherAtTheirExactDistances) {
   s.width = s.height = 41;
   s.camera.position = {0, 0, 5};
   s.camera.target = {0, 0, 0};
-  sdf::TriangleMesh wall;
+  sdf::SceneMesh wall;
   wall.vertices = {{-3, -3, 1}, {0, -3, 1}, {0, 3, 1}, {-3, 3, 1}, {0, -3, -2}, {3, -3, -2}, {3, 3, -2}, {0, 3, -2}};
   wall.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
   wall.material = 1;

@@ -7,7 +7,6 @@
 #include "marchcheck/march/packet.hpp"
 #include "marchcheck/march/render.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
-#include "marchcheck/validation/mesh_loader.hpp"
 
 #include "builtin_param.hpp"
 
@@ -102,7 +101,7 @@ Mismatches compare(const sdf::Scene& scene) {
 class EveryBuiltinPacket : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(EveryBuiltinPacket, SameOutcomesStepsEvaluationsNormalsAndShadowsAsOneRayAtATime) {
-  const sdf::Scene scene = sdf::builtin_scene(GetParam(), validation::mesh_loader());
+  const sdf::Scene scene = sdf::builtin_scene(GetParam());
   const Mismatches m = scene.march.precision == sdf::Precision::dual ? compare<double>(scene) : compare<float>(scene);
   EXPECT_EQ(m.march, 0);
   EXPECT_EQ(m.normals, 0);

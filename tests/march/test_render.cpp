@@ -2,7 +2,6 @@
 #include "marchcheck/march/render.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
-#include "marchcheck/validation/mesh_loader.hpp"
 
 #include "builtin_param.hpp"
 
@@ -17,7 +16,7 @@ namespace marchcheck::march {
 namespace {
 
 sdf::Scene small(const std::string& name, int w = 96, int h = 54) {
-  sdf::Scene s = sdf::builtin_scene(name, validation::mesh_loader());
+  sdf::Scene s = sdf::builtin_scene(name);
   s.width = w;
   s.height = h;
   return s;
@@ -40,7 +39,7 @@ class EveryBuiltin : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(EveryBuiltin, SceneFileRendersTheSameImageBitForBit) {
   const sdf::Scene scene = small(GetParam(), 64, 36);
-  const sdf::Scene loaded = sdf::scene_from_json(sdf::scene_to_json(scene), "exported.json", validation::mesh_loader());
+  const sdf::Scene loaded = sdf::scene_from_json(sdf::scene_to_json(scene), "exported.json");
   const RenderResult a = render(scene), b = render(loaded);
   EXPECT_EQ(a.color.pixels, b.color.pixels);
   EXPECT_EQ(a.total_evals, b.total_evals);

@@ -4,7 +4,6 @@
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/node.hpp"
 #include "marchcheck/sdf/tape.hpp"
-#include "marchcheck/validation/mesh_loader.hpp"
 
 #include <gtest/gtest.h>
 
@@ -58,7 +57,7 @@ int mismatches(const Tape& batch_tape, const Tape& point_tape) {
 
 TEST(Batch, EveryBuiltinMatchesTheOnePointTapeBitForBit) {
   for (const std::string& name : builtin_scene_names()) {
-    const Scene scene = builtin_scene(name, validation::mesh_loader());
+    const Scene scene = builtin_scene(name);
     const Tape tape = compile(scene.root, scene.time);
     EXPECT_EQ(mismatches<float>(tape, tape), 0) << name;
     EXPECT_EQ(mismatches<double>(tape, tape), 0) << name;

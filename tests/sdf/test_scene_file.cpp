@@ -5,7 +5,6 @@
 #include "marchcheck/sdf/mesh_distance.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/sdf/tape.hpp"
-#include "marchcheck/validation/mesh_loader.hpp"
 
 #include <gtest/gtest.h>
 
@@ -24,9 +23,9 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
 class BuiltinRoundTrip : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BuiltinRoundTrip, ExportThenLoadGivesTheSameSceneBitForBit) {
-  const Scene original = builtin_scene(GetParam(), validation::mesh_loader());
+  const Scene original = builtin_scene(GetParam());
   const std::string text = scene_to_json(original);
-  const Scene loaded = scene_from_json(text, GetParam() + ".json", validation::mesh_loader());
+  const Scene loaded = scene_from_json(text, GetParam() + ".json");
   EXPECT_EQ(scene_to_json(loaded), text);
   const Tape a = compile(original.root, original.time), b = compile(loaded.root, loaded.time);
   EXPECT_TRUE(same_bits(a.constants, b.constants));
@@ -141,7 +140,7 @@ class MeshScene : public ::testing::Test {
     std::ofstream(path) << R"({"name": "m", "sdf": )" << sdf << "}";
     return path;
   }
-  static std::string error_of(const std::string& path, const MeshLoader& loader) {
+  static std::string error_of(const std::string& path, const MeshLoader& loader = meshes::load_mesh_source) {
     try {
       load_scene_file(path, loader);
     } catch (const SceneError& e) {
@@ -156,13 +155,13 @@ class MeshScene : public ::testing::Test {
 TEST_F(MeshScene, AFileWithoutANameGoesByItsFileName) {
   const std::string path = (dir_ / "unnamed part.json").string();
   std::ofstream(path) << R"({"sdf": {"type": "sphere", "radius": 1}})";
-  EXPECT_EQ(load_scene_file(path, validation::mesh_loader()).name, "unnamed part");
-  EXPECT_EQ(load_scene_file(write("named.json", R"({"type": "sphere", "radius": 1})"), validation::mesh_loader()).name, "m");
+  EXPECT_EQ(load_scene_file(path).name, "unnamed part");
+  EXPECT_EQ(load_scene_file(write("named.json", R"({"type": "sphere", "radius": 1})")).name, "m");
 }
 
 TEST_F(MeshScene, ShorthandPathIsFoundBesideTheSceneFileAndRoundTrips) {
   const std::string path = write("scene.json", R"({"type": "translate", "offset": [0, 1, 0], "child": {"mesh": "notched.obj"}})");
-  const Scene s = load_scene_file(path, validation::mesh_loader());
+  const Scene s = load_scene_file(path);
   const Node& m = s.root.children[0];
   ASSERT_EQ(m.op, Op::mesh);
   EXPECT_EQ(m.source, (dir_ / "notched.obj").string());
@@ -171,14 +170,14 @@ TEST_F(MeshScene, ShorthandPathIsFoundBesideTheSceneFileAndRoundTrips) {
   EXPECT_EQ(derive_info(s.root).kind, Kind::exact);
   // Exported with the resolved path: the file loads the same from any folder, and exports the same again.
   const std::string text = scene_to_json(s);
-  const Scene again = scene_from_json(text, "elsewhere/exported.json", validation::mesh_loader());
+  const Scene again = scene_from_json(text, "elsewhere/exported.json");
   EXPECT_EQ(scene_to_json(again), text);
   EXPECT_EQ(evaluate(compile(again.root), glm::dvec3(0.3, 1.2, 0.1)), evaluate(compile(s.root), glm::dvec3(0.3, 1.2, 0.1)));
 }
 
 TEST_F(MeshScene, MissingOrBadMeshesAndNoLoaderNameTheFileAndTheJsonPath) {
   const std::string missing = write("missing.json", R"({"type": "union", "children": [{"mesh": "nowhere.obj"}]})");
-  const std::string err = error_of(missing, validation::mesh_loader());
+  const std::string err = error_of(missing);
   EXPECT_EQ(err.rfind(missing + ": /sdf/children/0/mesh: ", 0), 0u) << err;
   EXPECT_NE(err.find((dir_ / "nowhere.obj").string()), std::string::npos) << err;
 
@@ -186,17 +185,17 @@ TEST_F(MeshScene, MissingOrBadMeshesAndNoLoaderNameTheFileAndTheJsonPath) {
   open.triangles.pop_back();
   meshes::save_mesh(open, (dir_ / "open.off").string());
   const std::string bad = write("bad.json", R"({"mesh": "open.off"})");
-  const std::string bad_err = error_of(bad, validation::mesh_loader());
-  EXPECT_EQ(bad_err.rfind(bad + ": /sdf/mesh: '" + (dir_ / "open.off").string() + "': edge", 0), 0u) << bad_err;
-  EXPECT_NE(bad_err.find("open or inconsistently oriented"), std::string::npos) << bad_err;
+  const std::string bad_err = error_of(bad);
+  EXPECT_EQ(bad_err.rfind(bad + ": /sdf/mesh: '" + (dir_ / "open.off").string() + "': open: ", 0), 0u) << bad_err;
+  EXPECT_NE(bad_err.find("boundary edges"), std::string::npos) << bad_err;
 
   const std::string good = write("good.json", R"({"mesh": "notched.obj"})");
   EXPECT_NE(error_of(good, {}).find(good + ": /sdf/mesh: '"), std::string::npos);
   EXPECT_NE(error_of(good, {}).find("no mesh loader"), std::string::npos);
-  EXPECT_NE(error_of(write("gen.json", R"j({"mesh": "procedural:icosphere(1,99)"})j"), validation::mesh_loader())
+  EXPECT_NE(error_of(write("gen.json", R"j({"mesh": "procedural:icosphere(1,99)"})j"))
                 .find("/sdf/mesh: procedural:icosphere(1,99)"),
             std::string::npos);
-  EXPECT_THROW(builtin_scene("mesh-icosphere"), SceneError);  // built-ins with meshes need the loader too
+  EXPECT_THROW(builtin_scene("mesh-icosphere", {}), SceneError);  // built-ins with meshes need a loader too
 }
 
 // 10000 nested nodes, and a million nested arrays anywhere in the file: an error, not a stack overflow (the

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "marchcheck/sdf/tape.hpp"
-#include "marchcheck/validation/lipschitz.hpp"
+#include "marchcheck/sdf/lipschitz.hpp"
 
 #include <glm/glm.hpp>
 
@@ -88,7 +88,7 @@ inline KindMeasurement measure_kind(const sdf::Tape& tape, const ZeroSet& zs, co
 // Largest |f(a) - f(b)| / |a - b| over random nearby pairs in [lo, hi] (finite differences, no derivatives).
 inline double measure_lipschitz(const std::function<double(glm::dvec3)>& f, glm::dvec3 lo, glm::dvec3 hi, int pairs,
                                 double step = 1e-4, unsigned seed = 11) {
-  return validation::measured_slope(f, lo, hi, pairs, step, seed);
+  return sdf::measured_slope(f, lo, hi, pairs, step, seed);
 }
 
 }  // namespace marchcheck::testing

@@ -6,7 +6,6 @@
 #include "marchcheck/meshes/procedural.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/mesh_distance.hpp"
-#include "marchcheck/validation/mesh_loader.hpp"
 #include "marchcheck/validation/mesh_reference.hpp"
 #include "marchcheck/validation/reference.hpp"
 #include "marchcheck/validation/validate.hpp"
@@ -24,7 +23,7 @@ using glm::dvec3;
 
 sdf::Node loaded_mesh(const meshes::Mesh& m) {
   sdf::Node n = sdf::mesh("test");
-  n.mesh = std::make_shared<const sdf::MeshDistance>(to_triangle_mesh(m));
+  n.mesh = std::make_shared<const sdf::MeshDistance>(m);
   return n;
 }
 
@@ -70,7 +69,7 @@ TEST(MeshSpans, MeshUnderCsgAndTransformsCastsLikeTheSameTreeOfBoxes) {
 }
 
 TEST(MeshScenes, IcosphereHitsMatchTheAnalyticSphereWithinChordErrorAndHitEps) {
-  const sdf::Scene scene = sdf::builtin_scene("mesh-icosphere", mesh_loader());
+  const sdf::Scene scene = sdf::builtin_scene("mesh-icosphere");
   const double chord = meshes::icosphere(1, 4).max_error;
   const sdf::Tape tape = sdf::compile(scene.root, scene.time);
   const march::Camera camera(scene.camera, scene.width, scene.height);
@@ -123,7 +122,7 @@ TEST(MeshScenes, IcosphereNormalLimitIsTheLargestAngleBetweenAdjacentFaces) {
       edge_face[{t[i], t[(i + 1) % 3]}] = n;
     }
   }
-  const double limit = sdf::builtin_scene("mesh-icosphere", mesh_loader()).limits.at("normal.angle_p99_deg");
+  const double limit = sdf::builtin_scene("mesh-icosphere").limits.at("normal.angle_p99_deg");
   EXPECT_LE(worst, limit);
   EXPECT_GT(worst, limit - 0.05);  // the limit is this angle, not a looser one
 }
@@ -132,7 +131,7 @@ TEST(MeshScenes, GridOfTheMeshNeedsStepsOfFOverSqrt3) {
   // mesh-box's notched box alone (no ground: rays grazing a plane make the numerical reference slow) sampled on
   // a grid: validate measures the grid's slope against the declared sqrt(3). Stepping by f (the sphere tracer) is
   // caught; stepping by f / L (the scaled marcher) passes.
-  sdf::Scene s = sdf::builtin_scene("mesh-box", mesh_loader());
+  sdf::Scene s = sdf::builtin_scene("mesh-box");
   const sdf::Node shape = s.root.children[0].children[0].children[0];  // union > translate > rotate > mesh
   ASSERT_EQ(shape.op, sdf::Op::mesh);
   s.root = sdf::make(sdf::Op::grid, {{"resolution", {24}}}, {shape});

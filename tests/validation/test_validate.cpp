@@ -1,7 +1,6 @@
 // The checks on the built-in scenes: every correct scene passes, every defect variant fails on the check that
 // names its defect.
 #include "marchcheck/sdf/builtin_scenes.hpp"
-#include "marchcheck/validation/mesh_loader.hpp"
 #include "marchcheck/validation/validate.hpp"
 
 #include <gtest/gtest.h>
@@ -48,7 +47,7 @@ TEST(DefectTable, EveryDefectVariantFailsOnTheCheckThatNamesIt) {
 
 TEST(CorrectScenes, PassEveryCheck) {
   for (const auto& name : sdf::builtin_scene_names()) {
-    const sdf::Scene scene = sdf::builtin_scene(name, mesh_loader());
+    const sdf::Scene scene = sdf::builtin_scene(name);
     if (!scene.defects.empty()) continue;
     const SceneResult r = validate_scene(scene);
     for (const auto& c : r.checks) EXPECT_TRUE(c.pass) << name << ": " << c.name << " = " << c.value << " > " << c.limit;

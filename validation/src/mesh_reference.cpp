@@ -1,6 +1,8 @@
 // CGAL lives in this file alone: it is slow to compile and adds -frounding-math to whatever links it.
 #include "marchcheck/validation/mesh_reference.hpp"
 
+#include "marchcheck/meshes/checks.hpp"
+
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
@@ -27,19 +29,6 @@ using Inside = CGAL::Side_of_triangle_mesh<SurfaceMesh, K>;
 K::Point_3 point(glm::dvec3 p) { return {p.x, p.y, p.z}; }
 glm::dvec3 vec(const K::Point_3& p) { return {p.x(), p.y(), p.z()}; }
 
-// Closed and manifold: every edge has exactly two faces, traversed once in each direction.
-bool is_closed(const meshes::Mesh& mesh) {
-  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
-  for (const auto& t : mesh.triangles)
-    for (int i = 0; i < 3; ++i) ++directed[{t[static_cast<size_t>(i)], t[static_cast<size_t>((i + 1) % 3)]}];
-  for (const auto& [edge, count] : directed) {
-    if (count != 1) return false;
-    auto twin = directed.find({edge.second, edge.first});
-    if (twin == directed.end() || twin->second != 1) return false;
-  }
-  return !mesh.triangles.empty();
-}
-
 }  // namespace
 
 struct MeshReference::Impl {
@@ -54,7 +43,7 @@ MeshReference::MeshReference(const meshes::Mesh& mesh) : impl_(std::make_unique<
     impl_->triangles.emplace_back(point(mesh.vertices[t[0]]), point(mesh.vertices[t[1]]), point(mesh.vertices[t[2]]));
   impl_->tree = std::make_unique<Tree>(impl_->triangles.begin(), impl_->triangles.end());
   impl_->tree->accelerate_distance_queries();
-  if (is_closed(mesh)) {
+  if (meshes::solid_problem(meshes::inspect(mesh)).empty()) {  // a solid: the inside test is defined
     std::vector<SurfaceMesh::Vertex_index> ids;
     for (const auto& v : mesh.vertices) ids.push_back(impl_->surface.add_vertex(point(v)));
     for (const auto& t : mesh.triangles) impl_->surface.add_face(ids[t[0]], ids[t[1]], ids[t[2]]);

@@ -1,6 +1,5 @@
 #include "marchcheck/validation/reference.hpp"
 
-#include "marchcheck/validation/mesh_loader.hpp"
 #include "marchcheck/validation/mesh_reference.hpp"
 
 #include <algorithm>
@@ -355,7 +354,7 @@ bool exact_supported(const Node& n, double time) {
 MeshReferences mesh_references(const Node& node) {
   MeshReferences out;
   if (node.op == Op::mesh && node.mesh)
-    out[node.mesh.get()] = std::make_shared<const MeshReference>(to_mesh(node.mesh->mesh()));
+    out[node.mesh.get()] = std::make_shared<const MeshReference>(node.mesh->mesh());
   for (const auto& c : node.children) out.merge(mesh_references(c));
   return out;
 }

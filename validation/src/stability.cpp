@@ -8,8 +8,8 @@
 #include "marchcheck/meshes/checks.hpp"
 #include "marchcheck/meshes/procedural.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
+#include "marchcheck/sdf/lipschitz.hpp"
 #include "marchcheck/validation/convergence.hpp"
-#include "marchcheck/validation/lipschitz.hpp"
 #include "marchcheck/validation/mesh_reference.hpp"
 #include "marchcheck/validation/reference.hpp"
 #include "marchcheck/validation/statistics.hpp"
@@ -664,7 +664,7 @@ void seam_normals(Run& r, const StabilityOptions&) {
 void lipschitz_case(Run& r, sdf::Scene scene, dvec3 lo, dvec3 hi) {
   const sdf::Tape tape = sdf::compile(scene.root, scene.time);
   const TapeField field{&tape};
-  const double measured = measured_slope([&](dvec3 p) { return field(p); }, lo, hi, 20000, 1e-5);
+  const double measured = sdf::measured_slope([&](dvec3 p) { return field(p); }, lo, hi, 20000, 1e-5);
   const Reference ref(scene.root, scene.time);
   const march::Camera camera(scene.camera, 32, 18);
   const double max_dist = std::min(scene.march.max_dist, 50.0);

@@ -20,7 +20,7 @@ struct MeshHit {
 
 class MeshOccluder {
  public:
-  explicit MeshOccluder(const std::vector<sdf::TriangleMesh>& meshes);
+  explicit MeshOccluder(const std::vector<sdf::SceneMesh>& meshes);
   ~MeshOccluder();
   MeshOccluder(const MeshOccluder&) = delete;
   MeshOccluder& operator=(const MeshOccluder&) = delete;

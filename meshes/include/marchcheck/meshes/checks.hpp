@@ -3,6 +3,8 @@
 
 #include "marchcheck/meshes/mesh.hpp"
 
+#include <string>
+
 namespace marchcheck::meshes {
 
 struct MeshReport {
@@ -21,5 +23,10 @@ struct MeshReport {
 
 // Throws MeshError if a triangle indexes past the vertex array.
 MeshReport inspect(const Mesh& mesh);
+
+// The one rule for taking a mesh as a solid (a sign for its distance, an inside for its reference): closed,
+// manifold at every edge and vertex, consistently oriented, no degenerate face. "" when it holds, otherwise what
+// breaks it first. Orientation is separate: an inward solid is still a solid (see MeshReport::outward).
+std::string solid_problem(const MeshReport& report);
 
 }  // namespace marchcheck::meshes

@@ -11,10 +11,10 @@ namespace marchcheck::sdf {
 
 std::vector<std::string> builtin_scene_names();
 
-// Throws SceneError for a name that is not built in, or for a scene with meshes and no loader.
-Scene builtin_scene(const std::string& name, const MeshLoader& meshes = {});
+// Throws SceneError for a name that is not built in, or for a mesh it cannot load.
+Scene builtin_scene(const std::string& name, const MeshLoader& loader = meshes::load_mesh_source);
 
 // A built-in name, or else a scene file path.
-Scene resolve_scene(const std::string& name_or_path, const MeshLoader& meshes = {});
+Scene resolve_scene(const std::string& name_or_path, const MeshLoader& loader = meshes::load_mesh_source);
 
 }  // namespace marchcheck::sdf

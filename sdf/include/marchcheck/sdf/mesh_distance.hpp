@@ -3,6 +3,8 @@
 // right at edges and vertices, where the nearest face's own normal can point the wrong way.
 #pragma once
 
+#include "marchcheck/meshes/closest_point.hpp"
+#include "marchcheck/meshes/mesh.hpp"
 #include "marchcheck/sdf/node.hpp"
 #include "marchcheck/sdf/scalar.hpp"
 #include "marchcheck/sdf/scene.hpp"
@@ -18,8 +20,8 @@
 
 namespace marchcheck::sdf {
 
-// A mesh the distance field cannot take: empty, a bad index, a zero-area face, an edge without exactly one
-// twin running the other way (open, non-manifold or inconsistently oriented), or inside out.
+// A mesh the distance field cannot take: a bad index, not a solid by meshes::solid_problem (empty, degenerate,
+// open, non-manifold at an edge or a vertex, inconsistently oriented), or inside out.
 struct MeshShapeError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
@@ -27,14 +29,13 @@ struct MeshShapeError : std::runtime_error {
 class MeshDistance {
  public:
   // Throws MeshShapeError naming the problem.
-  explicit MeshDistance(const TriangleMesh& mesh);
+  explicit MeshDistance(const meshes::Mesh& mesh);
 
-  const TriangleMesh& mesh() const { return mesh_; }
+  const meshes::Mesh& mesh() const { return mesh_; }
   const Box3& bounds() const { return bounds_; }
 
-  // Which part of the closest triangle the closest point lies on: its vertex 0, 1, 2, its edge 01, 12, 20, or
-  // its inside; each has its own pseudonormal.
-  enum Feature : std::uint8_t { vertex0, vertex1, vertex2, edge01, edge12, edge20, face };
+  // Which part of the closest triangle the closest point lies on; each has its own pseudonormal.
+  using Feature = meshes::TriangleFeature;
 
   template <class S>
   struct Closest {
@@ -91,7 +92,7 @@ class MeshDistance {
     }
   }
 
-  TriangleMesh mesh_;
+  meshes::Mesh mesh_;
   Box3 bounds_;
   std::vector<std::uint32_t> order_;  // BVH position -> index in mesh_.triangles
   Arrays<float> single_;
@@ -99,39 +100,6 @@ class MeshDistance {
 };
 
 namespace detail {
-
-// Closest point of triangle abc to p and the feature it lies on (Ericson, Real-Time Collision Detection, 5.1.5,
-// with the Voronoi region kept).
-template <class S>
-inline glm::vec<3, S> closest_on_triangle(glm::vec<3, S> p, const std::array<glm::vec<3, S>, 3>& t,
-                                          MeshDistance::Feature& feature) {
-  using V = glm::vec<3, S>;
-  const V a = t[0], b = t[1], c = t[2];
-  const V ab = b - a, ac = c - a, ap = p - a;
-  const S d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
-  feature = MeshDistance::vertex0;
-  if (d1 <= 0 && d2 <= 0) return a;
-  const V bp = p - b;
-  const S d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
-  feature = MeshDistance::vertex1;
-  if (d3 >= 0 && d4 <= d3) return b;
-  const S vc = d1 * d4 - d3 * d2;
-  feature = MeshDistance::edge01;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
-  const V cp = p - c;
-  const S d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
-  feature = MeshDistance::vertex2;
-  if (d6 >= 0 && d5 <= d6) return c;
-  const S vb = d5 * d2 - d1 * d6;
-  feature = MeshDistance::edge20;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
-  const S va = d3 * d6 - d5 * d4;
-  feature = MeshDistance::edge12;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  feature = MeshDistance::face;
-  const S denom = S(1) / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
 
 // A row of lanes as a GCC vector, so the compiler computes them in SIMD registers whatever it makes of a loop.
 // Always inlined, so that no call passes a vector wider than the target's registers: GCC's warning that such a
@@ -248,11 +216,11 @@ MeshDistance::Closest<S> MeshDistance::closest(glm::vec<3, S> p) const {
     at = stack[--top].node;
   }
   Closest<S> best;
-  best.point = detail::closest_on_triangle(p, a.corners[best_slot], best.feature);
+  best.point = meshes::closest_on_triangle(p, a.corners[best_slot], best.feature);
   best.distance2 = best2;
   best.triangle = order_[best_slot];
   best.pseudonormal = a.normals[best_slot][best.feature];
-  best.face_normal = a.normals[best_slot][face];
+  best.face_normal = a.normals[best_slot][meshes::face];
   return best;
 }
 

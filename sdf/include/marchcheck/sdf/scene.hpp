@@ -2,6 +2,7 @@
 // Plain data: the marchers and renderer (march/) read it, scene files (JSON) write and read it.
 #pragma once
 
+#include "marchcheck/meshes/mesh.hpp"
 #include "marchcheck/sdf/node.hpp"
 
 #include <glm/glm.hpp>
@@ -137,11 +138,10 @@ struct Effects {
   bool eye_is_ray_direction = false;
 };
 
-// A triangle mesh sharing the screen with the marched field (the Unity seed's depth-buffer occlusion).
-struct TriangleMesh {
+// A triangle mesh sharing the screen with the marched field (the Unity seed's depth-buffer occlusion): its
+// triangles (counter-clockwise seen from outside), its name and its material.
+struct SceneMesh : meshes::Mesh {
   std::string name;
-  std::vector<glm::dvec3> vertices;
-  std::vector<glm::uvec3> triangles;  // indices into vertices, counter-clockwise seen from outside
   int material = -1;
 };
 
@@ -154,7 +154,7 @@ struct Scene {
   CameraSpec camera;
   std::vector<Material> materials;
   std::vector<Light> lights;
-  std::vector<TriangleMesh> meshes;
+  std::vector<SceneMesh> meshes;
   Effects effects;
   MarchSettings march;
   std::map<std::string, double> limits;  // per-check limits this scene sets

@@ -11,7 +11,7 @@
 
 #include "marchcheck/march/camera.hpp"
 #include "marchcheck/march/normals.hpp"
-#include "marchcheck/validation/lipschitz.hpp"
+#include "marchcheck/sdf/lipschitz.hpp"
 #include "marchcheck/validation/mesh_reference.hpp"
 #include "marchcheck/validation/reference.hpp"
 #include "marchcheck/validation/validate.hpp"
@@ -158,8 +158,8 @@ template <class Field>
 template <class Field>
 ::testing::AssertionResult LipschitzAtMost(const Field& f, double lipschitz, Region region = {}, int pairs = 20000,
                                            double step = 1e-5, unsigned seed = 2) {
-  const SteepestPair worst =
-      steepest_pair([&f](glm::dvec3 p) { return detail::value_at(f, p); }, region.lo, region.hi, pairs, step, seed);
+  const sdf::SteepestPair worst =
+      sdf::steepest_pair([&f](glm::dvec3 p) { return detail::value_at(f, p); }, region.lo, region.hi, pairs, step, seed);
   if (worst.slope > lipschitz * (1 + 1e-6))
     return ::testing::AssertionFailure() << "measured slope " << detail::number_text(worst.slope)
                                          << " exceeds the bound " << lipschitz << ": from "

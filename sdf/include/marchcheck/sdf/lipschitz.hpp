@@ -1,5 +1,6 @@
 // The measured Lipschitz constant of a field: the largest slope over random nearby pairs (a lower bound on the
-// true constant, which the tests and the hard-case battery compare declarations and step sizes against).
+// true constant, which validation, the tests and the hard-case battery compare declarations and step sizes
+// against). Beside derive_info's declared constant, for any callable field.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -7,7 +8,7 @@
 #include <cmath>
 #include <random>
 
-namespace marchcheck::validation {
+namespace marchcheck::sdf {
 
 // The steepest pair found: |f(from + direction * step) - f(from)| / step.
 struct SteepestPair {
@@ -39,4 +40,4 @@ double measured_slope(const Field& f, glm::dvec3 lo, glm::dvec3 hi, int pairs = 
   return steepest_pair(f, lo, hi, pairs, step, seed).slope;
 }
 
-}  // namespace marchcheck::validation
+}  // namespace marchcheck::sdf

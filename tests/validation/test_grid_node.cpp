@@ -4,7 +4,6 @@
 #include "marchcheck/sdf/mesh_distance.hpp"
 #include "marchcheck/sdf/tape.hpp"
 #include "marchcheck/validation/gtest_helpers.hpp"
-#include "marchcheck/validation/mesh_loader.hpp"
 
 #include <gtest/gtest.h>
 
@@ -35,7 +34,7 @@ TEST(GridNode, MeasuredSlopeExceedsOneAndStaysWithinSqrt3) {
   // rises along all three axes at once (at the centre, gradient (1, 1, 1)).
   const Tape tape = compile(grid(box(dvec3(0.5)), 17));
   auto f = [&](dvec3 p) { return evaluate(tape, p); };
-  const double slope = validation::measured_slope(f, dvec3(-0.7), dvec3(0.7), 40000, 1e-6);
+  const double slope = measured_slope(f, dvec3(-0.7), dvec3(0.7), 40000, 1e-6);
   std::printf("grid of a box: measured slope %.6f (sqrt(3) = %.6f)\n", slope, std::sqrt(3.0));
   EXPECT_TRUE(validation::LipschitzAtMost(f, std::sqrt(3.0), {dvec3(-0.7), dvec3(0.7)}, 40000, 1e-6));
   // The broken declaration: a grid of an exact field called exact (L = 1) is contradicted.
@@ -53,8 +52,7 @@ TEST(GridNode, WithinHalfACellDiagonalOfAnExactChild) {
     Node child;
   };
   Node notched = mesh("procedural:notched_box(1,0.7,0.6)");
-  notched.mesh = std::make_shared<const MeshDistance>(
-      validation::to_triangle_mesh(meshes::notched_box({1, 0.7, 0.6}).mesh));
+  notched.mesh = std::make_shared<const MeshDistance>(meshes::notched_box({1, 0.7, 0.6}).mesh);
   const Case cases[] = {{"sphere", sphere(1)}, {"torus", torus(1, 0.3)}, {"notched box mesh", notched}};
   for (const auto& c : cases) {
     const Node g = grid(c.child, 24);
