@@ -11,6 +11,18 @@ mutate=../shared/tools/mutate
 [ -x "$mutate" ] || { echo "mutants: $mutate is absent"; exit 2; }
 [ -f build/CMakeCache.txt ] || { echo "mutants: build/ is not configured (scripts/build.sh)"; exit 2; }
 mapfile -t all < <(find tests/mutants -name '*.mut' | LC_ALL=C sort)
+# Every mutant must still apply (its line found exactly once), whichever are sampled: a refactor that moves the
+# line makes a stale mutant, which would test nothing.
+stale=0
+for m in "${all[@]}"; do
+  file=$(sed -n 's/^file: //p' "$m")
+  from=$(sed -n 's/^from: //p' "$m")
+  if [ ! -f "$file" ] || [ "$(grep -cF -- "$from" "$file")" != 1 ]; then
+    echo "mutants: $m: its 'from' line is not found exactly once in $file (update the mutant)"
+    stale=1
+  fi
+done
+[ "$stale" = 0 ] || exit 2
 picked=()
 if [ "${1:-}" = "--sample" ]; then
   n=${2:?--sample needs a count}

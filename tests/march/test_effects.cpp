@@ -115,6 +115,84 @@ TEST(Shadows, EveryShadowStepsAsTheMarcherDoesOnASteepField) {
     }
 }
 
+// One pixel looking straight down -z at the plane z = 0 (normal and view both +z, exactly, whatever hit_eps
+// leaves), lit by a white directional light from l = (0.6, 0, 0.8): n.l = 0.8. No ambient unless a test sets it.
+sdf::Scene one_pixel_plane(const sdf::Material& material) {
+  sdf::Scene s;
+  s.materials = {material};
+  s.root = sdf::plane({0, 0, 1}, 0, 0);
+  s.width = s.height = 1;
+  s.camera.position = {0, 0, 5};
+  s.camera.target = {0, 0, 0};
+  sdf::Light light;
+  light.direction = {-0.6, 0, -0.8};
+  s.lights = {light};
+  s.effects.ambient = 0;
+  s.march.hit_eps = 1e-4;
+  return s;
+}
+
+V pixel(const RenderResult& r) {
+  const float* c = r.color.at(0, 0);
+  return {c[0], c[1], c[2]};
+}
+
+sdf::Material grey(double albedo) {
+  sdf::Material m;
+  m.name = "grey";
+  m.color = V(albedo);
+  return m;
+}
+
+// Colours are float: 1e-6 is a few ulps of the values here.
+constexpr double kShadeTol = 1e-6;
+
+// Lambert: albedo * n.l; Blinn-Phong: strength (n.h)^shininess with h = normalize(l + v) = normalize(0.6, 0, 1.8);
+// Phong: strength (r.v)^shininess with r = reflect(-l, n) = (-0.6, 0, 0.8), so r.v = 0.8. Broken variants: h
+// built as l - v (n.h < 0: no highlight); reflect without its factor 2 (r.v = 0); the strength taken as 1.
+TEST(Shading, DiffuseAndBothSpecularModelsMatchTheirClosedForms) {
+  const V lambert = pixel(render(one_pixel_plane(grey(0.5))));
+  EXPECT_NEAR(lambert.x, 0.5 * 0.8, kShadeTol);
+  sdf::Material blinn = grey(0.5);
+  blinn.specular = sdf::SpecularModel::blinn;
+  blinn.specular_strength = 0.7;
+  blinn.shininess = 8;
+  const double n_h = 1.8 / std::sqrt(0.6 * 0.6 + 1.8 * 1.8);
+  EXPECT_NEAR(pixel(render(one_pixel_plane(blinn))).x, 0.4 + 0.7 * std::pow(n_h, 8), kShadeTol);
+  sdf::Material phong = blinn;
+  phong.specular = sdf::SpecularModel::phong;
+  EXPECT_NEAR(pixel(render(one_pixel_plane(phong))).x, 0.4 + 0.7 * std::pow(0.8, 8), kShadeTol);
+  // Lit from below (n.l = -0.8), over an ambient of 1 (final colours are clamped at 0): each diffuse rule as
+  // declared. Broken variant: the floor ignored.
+  sdf::Scene below = one_pixel_plane(grey(0.5));
+  below.lights[0].direction = {-0.6, 0, 0.8};
+  below.effects.ambient = 1;
+  EXPECT_NEAR(pixel(render(below)).x, 0.5, kShadeTol);
+  below.effects.diffuse = sdf::Diffuse::floor;
+  below.effects.diffuse_floor = 0.2;
+  EXPECT_NEAR(pixel(render(below)).x, 0.5 + 0.5 * 0.2, kShadeTol);
+  below.effects.diffuse = sdf::Diffuse::unclamped;
+  EXPECT_NEAR(pixel(render(below)).x, 0.5 - 0.5 * 0.8, kShadeTol);
+}
+
+// A slab of index 1.5 seen head-on over a floor: Schlick's F0 = 0.04 of the background (reflected up) and 0.96 of
+// the lit floor (refracted straight through). Broken variant: the cosine given with the wrong sign (F = 30.8).
+TEST(Shading, TransparencyWeighsReflectionAndRefractionBySchlick) {
+  sdf::Scene s = one_pixel_plane(grey(0.5));
+  sdf::Material glass = grey(0.9);
+  glass.name = "glass";
+  glass.transparency = 1;
+  glass.ior = 1.5;
+  s.materials.push_back(glass);
+  s.root = sdf::unite({sdf::plane({0, 0, 1}, 0, 0), sdf::translate({0, 0, 2}, sdf::box({10, 10, 0.5}, 1))});
+  s.lights[0].direction = {0, 0, -1};  // overhead: the floor shows its albedo, 0.5
+  s.effects.background = V(0.2);
+  s.effects.max_bounces = 2;
+  const double f0 = std::pow((1 - 1.5) / (1 + 1.5), 2);
+  // The refracted ray crosses the slab's two faces, each hit within hit_eps: the floor is the same flat colour.
+  EXPECT_NEAR(pixel(render(s)).x, f0 * 0.2 + (1 - f0) * 0.5, kShadeTol);
+}
+
 TEST(Fresnel, SchlickAtNormalIncidenceIsTheReflectanceOfTheInterface) {
   for (double n2 : {1.33, 1.5, 2.4}) EXPECT_DOUBLE_EQ(schlick_fresnel(1.0, 1.0, n2), std::pow((1 - n2) / (1 + n2), 2));
   EXPECT_DOUBLE_EQ(schlick_fresnel(0.0, 1.0, 1.5), 1.0) << "grazing incidence reflects everything";
@@ -159,6 +237,28 @@ sdf::Scene base_scene() {
   s.lights = {light};
   s.march.hit_eps = 1e-3;
   return s;
+}
+
+// A grey scene stays grey under every effect that shades: each treats the channels alike. Broken variant:
+// ambient occlusion left out of one channel's ambient term.
+TEST(Shading, AGreySceneStaysGreyUnderEveryShadingEffect) {
+  sdf::Scene s = base_scene();
+  s.materials = {grey(0.6), grey(0.4)};
+  s.effects.ambient = 0.3;
+  s.effects.ao = sdf::AmbientOcclusion::samples;
+  s.lights[0].shadow = sdf::ShadowMode::soft;
+  s.materials[0].specular = sdf::SpecularModel::blinn;
+  s.materials[0].specular_strength = 0.5;
+  const RenderResult r = render(s);
+  int lit = 0;
+  for (int y = 0; y < s.height; ++y)
+    for (int x = 0; x < s.width; ++x) {
+      const float* c = r.color.at(x, y);
+      lit += c[0] > 0;
+      EXPECT_EQ(c[0], c[1]) << x << ", " << y;
+      EXPECT_EQ(c[0], c[2]) << x << ", " << y;
+    }
+  EXPECT_GT(lit, s.width * s.height / 2);
 }
 
 struct EffectCase {
