@@ -1,5 +1,5 @@
-// marchcheck's command line: argument parsing only; the commands live in marchcheck::reports.
-#include "marchcheck/reports/commands.hpp"
+// marchcheck's command line: argument parsing only; the commands live in marchcheck::commands.
+#include "marchcheck/commands/commands.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -8,7 +8,7 @@
 #include <unistd.h>
 
 int main(int argc, char** argv) {
-  using namespace marchcheck::reports;
+  using namespace marchcheck::commands;
   CLI::App app{"marchcheck: numerical validation of signed-distance-field ray marching"};
   app.require_subcommand(1);
 
@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
   render_cmd->add_option("scene", render.scene, "Built-in scene name or scene file (.json)")->required();
   render_cmd->add_option("-o,--output", render.output, "Output image (.png or .exr)");
   render_cmd->add_option("--size", render.size, "Image size WIDTHxHEIGHT");
-  render_cmd->add_option("--aov", render.aovs, "Extra outputs: depth,normal,steps,evals,id,stages (per-stage evaluation heat maps)");
+  render_cmd->add_option("--aov", render.aovs, "Extra outputs: depth,normal,steps,evals,id,stages (per-stage evaluation heat maps),error (heat map of the colour difference from a reference render)");
   render_cmd->add_option("--stats", render.stats, "Write the cost per stage as JSON");
   render_cmd->add_flag("--reference", render.reference, "Render from the exact references instead of marching");
   render_cmd->add_option("--set", render.sets, "Override a scene or marching parameter KEY=VALUE (repeatable)");

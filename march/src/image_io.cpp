@@ -83,7 +83,9 @@ Image heat_map(const Image& values, double max_value) {
   return out;
 }
 
-void write_render(const RenderResult& r, const std::string& path, const std::vector<Aov>& aovs) {
+void write_render(const RenderResult& r, const std::string& path, const std::vector<Aov>& aovs, const Image* error) {
+  if (!error && std::find(aovs.begin(), aovs.end(), Aov::error) != aovs.end())
+    throw std::invalid_argument("the error AOV needs the difference from a reference render");
   write_image(r.color, path, true);
   const std::string base = base_of(path);
   for (Aov aov : aovs) {
@@ -116,6 +118,7 @@ void write_render(const RenderResult& r, const std::string& path, const std::vec
           if (top > 0) write_image(heat_map(one, top), base + ".evals-" + r.stage_names[static_cast<size_t>(stage)] + ".png", false);
         }
         break;
+      case Aov::error: write_image(heat_map(*error, kErrorHeatMapMax), base + ".error.png", false); break;
       case Aov::id: {
         Image shown(r.id.width, r.id.height, 3);
         for (int y = 0; y < r.id.height; ++y)

@@ -48,7 +48,8 @@ std::vector<Aov> parse_aovs(const std::string& list) {
     else if (item == "evals") out.push_back(Aov::evals);
     else if (item == "id") out.push_back(Aov::id);
     else if (item == "stages") out.push_back(Aov::stages);
-    else throw std::invalid_argument("unknown AOV '" + item + "'; expected depth, normal, steps, evals, id, stages");
+    else if (item == "error") out.push_back(Aov::error);
+    else throw std::invalid_argument("unknown AOV '" + item + "'; expected depth, normal, steps, evals, id, stages, error");
   }
   return out;
 }
@@ -61,6 +62,7 @@ std::string to_string(Aov aov) {
     case Aov::evals: return "evals";
     case Aov::id: return "id";
     case Aov::stages: return "stages";
+    case Aov::error: return "error";
   }
   return "?";
 }

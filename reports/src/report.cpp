@@ -1,10 +1,9 @@
 // marchcheck report: the accuracy report of the built-in scenes as a plain HTML folder.
-#include "marchcheck/reports/commands.hpp"
+#include "marchcheck/reports/report.hpp"
 
 #include "marchcheck/march/atomic_file.hpp"
 #include "marchcheck/march/render.hpp"
 #include "marchcheck/reports/results_io.hpp"
-#include "command_support.hpp"
 #include "plot_script.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
@@ -40,9 +39,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr int kBadInput = 2;
 constexpr const char* kMarker = ".marchcheck-report";  // marks a folder this command may replace
-constexpr double kErrorMapMax = 0.25;                   // colour difference at the top of the error heat map
 constexpr int kShownWidth = 320;                        // four scene images side by side; each links to its file
 
 struct ReportError : std::runtime_error {
@@ -149,7 +146,8 @@ void swap_into_place(const fs::path& built, const fs::path& dir) {
 
 class Builder {
  public:
-  Builder(const ReportCommand& cmd, fs::path root, std::ostream& err) : cmd_(cmd), root_(std::move(root)), err_(err) {}
+  Builder(const ReportOptions& options, fs::path root, std::ostream& err)
+      : options_(options), root_(std::move(root)), err_(err) {}
 
   int build(std::vector<sdf::Scene> scenes) {
     for (const char* sub : {"images", "data", "plots"}) fs::create_directories(root_ / sub);
@@ -170,10 +168,10 @@ class Builder {
 
  private:
   void step(const std::string& what) {
-    if (cmd_.progress) err_ << "report: " << what << "\n" << std::flush;
+    if (options_.progress) err_ << "report: " << what << "\n" << std::flush;
   }
 
-  int image_width() const { return cmd_.quick ? 160 : 480; }
+  int image_width() const { return options_.quick ? 160 : 480; }
 
   SceneReport scene_report(sdf::Scene scene) {
     step("validate " + scene.name);
@@ -187,7 +185,7 @@ class Builder {
     const fs::path images = root_ / "images";
     march::write_image(pair.marched.color, (images / (r.file + ".marched.png")).string());
     march::write_image(pair.reference.color, (images / (r.file + ".reference.png")).string());
-    march::write_image(march::heat_map(pair.difference, kErrorMapMax), (images / (r.file + ".error.png")).string(), false);
+    march::write_image(march::heat_map(pair.difference, march::kErrorHeatMapMax), (images / (r.file + ".error.png")).string(), false);
     const auto& steps = pair.marched.steps.pixels;
     r.steps_max = steps.empty() ? 0 : static_cast<int>(*std::max_element(steps.begin(), steps.end()));
     march::write_image(march::heat_map(pair.marched.steps, std::max(1, r.steps_max)),
@@ -211,7 +209,7 @@ class Builder {
   }
 
   void studies() {
-    const bool q = cmd_.quick;
+    const bool q = options_.quick;
     using validation::SweepAxis;
     validation::SweepOptions timed;
     timed.repeat = q ? 1 : 3;
@@ -455,7 +453,7 @@ class Builder {
     };
     figure("marched", "marched");
     figure("reference", "reference (exact hits, normals, shadows)");
-    figure("error", "error heat map: largest colour difference, 0 to " + number(kErrorMapMax));
+    figure("error", "error heat map: largest colour difference, 0 to " + number(march::kErrorHeatMapMax));
     figure("steps", "primary march steps, 0 to " + std::to_string(r.steps_max));
     if (r.scene.effects.ao != sdf::AmbientOcclusion::none || r.scene.effects.glow > 0 || r.scene.effects.max_bounces > 0)
       h << "<p>Both images leave out the effects only marching defines (occlusion, glow, bounces); their cost is in the "
@@ -486,7 +484,7 @@ class Builder {
     h << "</table></section>\n";
   }
 
-  const ReportCommand& cmd_;
+  const ReportOptions& options_;
   fs::path root_;
   std::ostream& err_;
   std::vector<SceneReport> reports_;
@@ -496,39 +494,22 @@ class Builder {
 
 }  // namespace
 
-int run_report(const ReportCommand& cmd, std::ostream& out, std::ostream& err) {
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<sdf::Scene> scenes;
-  fs::path dir = fs::path(cmd.dir).lexically_normal();
+int write_report(std::vector<sdf::Scene> scenes, fs::path dir, const ReportOptions& options, std::ostream& err) {
+  dir = dir.lexically_normal();
   if (!dir.has_filename()) dir = dir.parent_path();  // "out/" names the folder "out"
-  try {
-    for (const auto& name : cmd.scenes.empty() ? sdf::builtin_scene_names() : cmd.scenes) {
-      scenes.push_back(sdf::resolve_scene(name));
-      apply_sets(scenes.back(), cmd.sets);
-      sdf::compile(scenes.back().root, scenes.back().time);
-    }
-    check_replaceable(dir);
-    if (!dir.parent_path().empty()) fs::create_directories(dir.parent_path());
-  } catch (const std::exception& e) {
-    err << "marchcheck report: " << e.what() << "\n";
-    return kBadInput;
-  }
+  check_replaceable(dir);
+  if (!dir.parent_path().empty()) fs::create_directories(dir.parent_path());
   const fs::path built = dir.parent_path() / ("." + dir.filename().string() + ".tmp-" + std::to_string(::getpid()));
-  int status = 0;
   try {
     fs::remove_all(built);
-    status = Builder(cmd, built, err).build(std::move(scenes));
+    const int status = Builder(options, built, err).build(std::move(scenes));
     swap_into_place(built, dir);
+    return status;
   } catch (const std::exception& e) {
     std::error_code ignored;
     fs::remove_all(built, ignored);
-    err << "marchcheck report: " << e.what() << " (the previous report, if any, is unchanged)\n";
-    return kBadInput;
+    throw std::runtime_error(std::string(e.what()) + " (the previous report, if any, is unchanged)");
   }
-  out << "report: " << (dir / "index.html").string() << " ("
-      << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s)"
-      << (status == 0 ? "" : "; a check failed where it should pass, or a defect went uncaught: see the summary") << "\n";
-  return status;
 }
 
 }  // namespace marchcheck::reports

@@ -57,6 +57,15 @@ TEST_F(Cli, RenderWritesTheImageAndTheStats) {
     EXPECT_NE(text.find(key), std::string::npos) << key;
 }
 
+// DESIGN's --aov error: the heat map of the colour difference from a reference render, beside the image (it was
+// refused as an unknown AOV).
+TEST_F(Cli, RenderWritesTheErrorHeatMapAgainstTheReference) {
+  const CommandRun r = run("render lee-flat-defect-bias --size 64x36 -o " + path("bias.png") + " --aov error,steps");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_GT(std::filesystem::file_size(path("bias.error.png")), 0u);
+  EXPECT_TRUE(std::filesystem::exists(path("bias.steps.png")));
+}
+
 TEST_F(Cli, ExportedSceneFileRendersLikeTheBuiltin) {
   const CommandRun exported = run("scenes --export crum-smooth > " + path("smooth.json"));
   ASSERT_EQ(exported.status, 0);

@@ -35,6 +35,21 @@ TEST(Render, SameImageAndCountsOnOneThreadAndOnAll) {
   EXPECT_EQ(one.total_evals, all.total_evals);
 }
 
+// march makes no reference render: the error AOV is written from the difference its caller passes, and asking
+// for it without one is an error rather than a missing file.
+TEST(Render, TheErrorAovNeedsItsDifferenceImage) {
+  EXPECT_EQ(parse_aovs("steps,error"), (std::vector<Aov>{Aov::steps, Aov::error}));
+  const RenderResult r = render(small("lee-flat", 8, 4));
+  const std::string path = (std::filesystem::temp_directory_path() / "marchcheck-error-aov.png").string();
+  EXPECT_THROW(write_render(r, path, {Aov::error}), std::invalid_argument);
+  const Image difference(8, 4, 1, 0.1f);
+  write_render(r, path, {Aov::error}, &difference);
+  const std::string written = (std::filesystem::temp_directory_path() / "marchcheck-error-aov.error.png").string();
+  EXPECT_TRUE(std::filesystem::exists(written));
+  std::filesystem::remove(path);
+  std::filesystem::remove(written);
+}
+
 class EveryBuiltin : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(EveryBuiltin, SceneFileRendersTheSameImageBitForBit) {

@@ -34,7 +34,9 @@ struct Image {
   const float* at(int x, int y) const { return &pixels[(static_cast<size_t>(y) * width + x) * channels]; }
 };
 
-enum class Aov { depth, normal, steps, evals, id, stages };
+// error: the largest colour difference from a reference render, which march cannot make (the references live in
+// validation): whoever asks for it passes the difference image to write_render.
+enum class Aov { depth, normal, steps, evals, id, stages, error };
 // Parses "depth,normal,..."; throws std::invalid_argument naming a bad entry.
 std::vector<Aov> parse_aovs(const std::string& list);
 std::string to_string(Aov aov);
@@ -93,9 +95,14 @@ std::map<std::string, double> cost_metrics(const RenderResult& result);
 
 // Writes the colour image (PNG: 8-bit sRGB; EXR: float linear) and each AOV next to it
 // (FILE.depth.exr, FILE.normal.png, FILE.steps.png heat map, FILE.evals.png heat map, FILE.id.png,
-// FILE.evals-STAGE.png heat map for each stage that spent evaluations), each
-// through a temporary file renamed into place. Throws std::runtime_error naming the file on failure.
-void write_render(const RenderResult& result, const std::string& path, const std::vector<Aov>& aovs);
+// FILE.evals-STAGE.png heat map for each stage that spent evaluations, FILE.error.png heat map of error over
+// [0, kErrorHeatMapMax]), each through a temporary file renamed into place. Throws std::runtime_error naming the
+// file on failure, std::invalid_argument when the error AOV is asked for without its image.
+void write_render(const RenderResult& result, const std::string& path, const std::vector<Aov>& aovs,
+                  const Image* error = nullptr);
+
+// The colour difference at the top of the error heat map (the report's and --aov error's).
+constexpr double kErrorHeatMapMax = 0.25;
 
 // Writes an image through a temporary file renamed into place; PNG/JPEG get 8-bit sRGB (or raw 8-bit for
 // data images: srgb = false), EXR/TIFF float.

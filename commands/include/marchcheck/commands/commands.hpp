@@ -2,12 +2,19 @@
 // 2 bad input) and prints errors to stderr naming the file or argument at fault.
 #pragma once
 
+#include "marchcheck/sdf/scene.hpp"
+
 #include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
 
-namespace marchcheck::reports {
+namespace marchcheck::commands {
+
+// A built-in scene or a scene file, with "--set KEY=VALUE" overrides applied and its tree compiled (tree errors
+// come before any work): what every command that takes scenes loads them with. Throws std::exception naming the
+// scene or the option at fault.
+sdf::Scene load_scene(const std::string& name_or_path, const std::vector<std::string>& sets);
 
 struct ScenesCommand {
   bool json = false;
@@ -76,4 +83,4 @@ struct ReportCommand {
 // the stability battery is stable; 1 otherwise.
 int run_report(const ReportCommand& cmd, std::ostream& out, std::ostream& err);
 
-}  // namespace marchcheck::reports
+}  // namespace marchcheck::commands

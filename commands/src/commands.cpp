@@ -1,10 +1,10 @@
-#include "marchcheck/reports/commands.hpp"
+#include "marchcheck/commands/commands.hpp"
 
 #include "marchcheck/march/atomic_file.hpp"
 #include "marchcheck/march/render.hpp"
 #include "marchcheck/reports/compare.hpp"
 #include "marchcheck/reports/results_io.hpp"
-#include "command_support.hpp"
+#include "marchcheck/reports/report.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/validation/stability.hpp"
@@ -18,11 +18,18 @@
 #include <fstream>
 #include <sstream>
 #include <charconv>
+#include <chrono>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
 
-namespace marchcheck::reports {
+namespace marchcheck::commands {
+
+using namespace reports;  // the result files, the comparison and the report that the commands drive
+
+namespace {
+
+constexpr int kBadInput = 2;
 
 void apply_sets(sdf::Scene& scene, const std::vector<std::string>& sets) {
   for (const auto& kv : sets) {
@@ -36,9 +43,6 @@ void apply_sets(sdf::Scene& scene, const std::vector<std::string>& sets) {
   }
 }
 
-namespace {
-
-constexpr int kBadInput = 2;
 
 // from_chars, not sscanf: "%d" on "99999999999" is undefined behaviour.
 void apply_size(sdf::Scene& scene, const std::string& size) {
@@ -56,6 +60,13 @@ void apply_size(sdf::Scene& scene, const std::string& size) {
 }
 
 }  // namespace
+
+sdf::Scene load_scene(const std::string& name_or_path, const std::vector<std::string>& sets) {
+  sdf::Scene scene = sdf::resolve_scene(name_or_path);
+  apply_sets(scene, sets);
+  sdf::compile(scene.root, scene.time);
+  return scene;
+}
 
 int run_scenes(const ScenesCommand& cmd, std::ostream& out, std::ostream& err) {
   if (cmd.export_name) {
@@ -100,11 +111,9 @@ int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err) {
   sdf::Scene scene;
   std::vector<march::Aov> aovs;
   try {
-    scene = sdf::resolve_scene(cmd.scene);
-    apply_sets(scene, cmd.sets);
+    scene = load_scene(cmd.scene, cmd.sets);
     if (cmd.size) apply_size(scene, *cmd.size);
     if (!cmd.aovs.empty()) aovs = march::parse_aovs(cmd.aovs);
-    sdf::compile(scene.root, scene.time);  // reports tree errors before any work
   } catch (const std::exception& e) {
     err << "marchcheck render: " << e.what() << "\n";
     return kBadInput;
@@ -116,8 +125,11 @@ int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err) {
     oracle = validation::oracle_of(*reference);
   }
   const auto result = march::render(scene, aovs, oracle ? &*oracle : nullptr, march::Images::asked);
+  std::optional<march::Image> error;  // the difference from the reference render, as validate computes it
+  if (std::find(aovs.begin(), aovs.end(), march::Aov::error) != aovs.end())
+    error = validation::render_image_pair(scene, scene.width).difference;
   try {
-    march::write_render(result, cmd.output, aovs);
+    march::write_render(result, cmd.output, aovs, error ? &*error : nullptr);
     if (cmd.stats) march::write_bytes_atomically(*cmd.stats, metrics_json(march::cost_metrics(result)));
   } catch (const std::exception& e) {
     err << "marchcheck render: " << e.what() << "\n";
@@ -135,9 +147,7 @@ int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& er
     for (const auto& name : cmd.scenes) {
       const auto names = name == "all" ? sdf::builtin_scene_names() : std::vector<std::string>{name};
       for (const auto& n : names) {
-        scenes.push_back(sdf::resolve_scene(n));
-        apply_sets(scenes.back(), cmd.sets);
-        sdf::compile(scenes.back().root, scenes.back().time);
+        scenes.push_back(load_scene(n, cmd.sets));
       }
     }
   } catch (const std::exception& e) {
@@ -246,9 +256,7 @@ int run_sweep(const SweepCommand& cmd, std::ostream& out, std::ostream& err) {
   std::vector<validation::SweepAxis> axes;
   validation::SweepOptions options;
   try {
-    scene = sdf::resolve_scene(cmd.scene);
-    apply_sets(scene, cmd.sets);
-    sdf::compile(scene.root, scene.time);
+    scene = load_scene(cmd.scene, cmd.sets);
     for (const auto& v : cmd.vary) axes.push_back(validation::parse_sweep_axis(v));
     for (const auto& t : cmd.targets) options.targets.push_back(validation::parse_sweep_target(t));
     if (cmd.repeat < 1) throw sdf::SceneError("--repeat " + std::to_string(cmd.repeat) + ": expected at least 1");
@@ -342,4 +350,28 @@ int run_compare(const CompareCommand& cmd, std::ostream& out, std::ostream& err)
   return comparison.regression() ? 1 : 0;
 }
 
-}  // namespace marchcheck::reports
+int run_report(const ReportCommand& cmd, std::ostream& out, std::ostream& err) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<sdf::Scene> scenes;
+  try {
+    for (const auto& name : cmd.scenes.empty() ? sdf::builtin_scene_names() : cmd.scenes)
+      scenes.push_back(load_scene(name, cmd.sets));
+  } catch (const std::exception& e) {
+    err << "marchcheck report: " << e.what() << "\n";
+    return kBadInput;
+  }
+  int status = 0;
+  try {
+    status = write_report(std::move(scenes), cmd.dir, {cmd.quick, cmd.progress}, err);
+  } catch (const std::exception& e) {
+    err << "marchcheck report: " << e.what() << "\n";
+    return kBadInput;
+  }
+  std::filesystem::path dir = std::filesystem::path(cmd.dir).lexically_normal();
+  out << "report: " << (dir / "index.html").string() << " ("
+      << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s)"
+      << (status == 0 ? "" : "; a check failed where it should pass, or a defect went uncaught: see the summary") << "\n";
+  return status;
+}
+
+}  // namespace marchcheck::commands
