@@ -567,12 +567,6 @@ void apply_setting(Scene& scene, std::string_view key, std::string_view value) {
   s->set(scene, parse_setting_value(value), std::string(key) + "=" + std::string(value));
 }
 
-std::vector<std::string> setting_keys() {
-  std::vector<std::string> keys;
-  for (const auto& s : settings()) keys.push_back(s.key);
-  return keys;
-}
-
 std::string scene_to_json(const Scene& scene) {
   json j;
   j["name"] = scene.name;

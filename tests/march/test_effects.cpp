@@ -91,6 +91,51 @@ TEST(Shadows, SoftShadowsGoFromUmbraThroughPenumbraToLight) {
   }
 }
 
+// The soft shadow's penumbra is k times the closest approach over distance: at a point in the penumbra, halving k
+// halves the visibility exactly, in both variants (the steps do not depend on k, and doubling is exact). Broken
+// variant: k left out of the classic formula.
+TEST(Shadows, SoftShadowVisibilityIsProportionalToThePenumbraFactor) {
+  for (auto variant : {sdf::SoftShadow::classic, sdf::SoftShadow::improved}) {
+    auto light = overhead(sdf::ShadowMode::soft, sdf::ShadowBias::scaled);
+    light.soft = variant;
+    const auto at = [&](double k) {
+      light.penumbra = k;
+      return shadow_visibility<double>(TapeField{&kGround}, V(0.55, 0.005, 0), V(0, 1, 0), V(0, 1, 0), INFINITY, 5.0,
+                                       light, seed_settings(), {})
+          .visibility;
+    };
+    ASSERT_LT(at(8), 1.0) << "the point must be in the penumbra";
+    EXPECT_DOUBLE_EQ(at(4), at(8) / 2) << static_cast<int>(variant);
+  }
+}
+
+// The closest approach of the shadow ray from (x, 0.005, 0) straight up past the sphere of radius 0.5 at (0, 1, 0),
+// over the distance: k min over t of (|(x, y(t), 0) - (0, 1, 0)| - 0.5) / t, sampled every 2.5e-5 in double (the
+// sampling itself overestimates by under 1e-6 here). The classic estimate takes the minimum at the march's steps
+// only, so it is never below that; the improved one (Quilez) estimates the approach between two steps from the
+// two empty spheres, whose intersection circle is nearer the ray than the occluder can be, so it is never above.
+// Broken variant: the improved correction y = h^2 / (2 h_prev) halved, which overshoots the true value.
+TEST(Shadows, ClassicAndImprovedSoftShadowsBracketTheTrueClosestApproach) {
+  auto light = overhead(sdf::ShadowMode::soft, sdf::ShadowBias::scaled);
+  light.penumbra = 8;
+  for (double x : {0.52, 0.55, 0.58, 0.62}) {
+    const auto visibility = [&](sdf::SoftShadow variant) {
+      light.soft = variant;
+      return shadow_visibility<double>(TapeField{&kGround}, V(x, 0.005, 0), V(0, 1, 0), V(0, 1, 0), INFINITY, 5.0,
+                                       light, seed_settings(), {})
+          .visibility;
+    };
+    double truth = 1;
+    for (int i = 1; i <= 200000; ++i) {
+      const double t = 5.0 * i / 200000, y = 0.005 + t;
+      truth = std::min(truth, 8 * (std::hypot(x, y - 1) - 0.5) / t);
+    }
+    ASSERT_LT(truth, 1.0) << x;
+    EXPECT_GE(visibility(sdf::SoftShadow::classic), truth - 1e-6) << x;
+    EXPECT_LE(visibility(sdf::SoftShadow::improved), truth + 1e-6) << x;
+  }
+}
+
 // A thin slab (y in [0.99, 1.01]) above the ground under a field twice as steep as its distance. A marcher told to
 // step by half of f (step_scale 0.5, the sphere marcher), or by f / L (the scaled one, L = 2), cannot jump it,
 // and neither may the shadow rays of the same march. Broken variant (drift fixed here): soft shadows stepping

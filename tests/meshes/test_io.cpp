@@ -284,8 +284,8 @@ TEST(LoadMesh, OffDefects) {
   expect_load_error(path, "ends after 2 of 4 vertices");
   write_bytes(path, "OFF\n3000000000 1 0\n0 0 0\n");  // would go straight into reserve()
   expect_load_error(path, "more than the file's");
-  write_bytes(path, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n");
-  expect_load_error(path, "has 2 vertices");
+  write_bytes(path, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n");  // named by its line, before OpenMesh reads it
+  expect_load_error(path, "line 6: face 0 has 2 vertices");
   write_bytes(path, "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n");
   expect_load_error(path, "no triangles");
   // OpenMesh misreads comments (even reading uninitialised memory) and counts on the OFF line: refused.

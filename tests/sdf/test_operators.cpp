@@ -182,6 +182,8 @@ TEST(Deformations, DeclaredLipschitzBoundsHoldAndAreTight) {
       // Broken variants: a rule that adds the signed amplitude or rate (a negative one lowers the bound).
       {"displace, negative amplitude", make(Op::displace, {{"amplitude", {-0.1}}, {"frequency", {15}}}, {sphere(0.8)}), 0},
       {"twist, negative rate", make(Op::twist, {{"rate", {-2}}}, {box({0.5, 0.8, 0.3})}), 0},
+      // A child reaching further in z than in x. Broken variant: the bounding radius taken from x alone.
+      {"twist, deep in z", make(Op::twist, {{"rate", {2}}}, {box({0.2, 0.8, 0.9})}), 0},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.name);

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -54,6 +56,50 @@ std::string error_of(const std::string& text) {
     return e.what();
   }
   return "(no error)";
+}
+
+// Each effect a scene can switch on is declared by its name, however little of it there is. Broken variants:
+// light fog left out; a lens with k2 alone not declared as distorting.
+TEST(SceneFile, DeclaredEffectsNameEveryEffectSwitchedOn) {
+  const auto declares = [](const Scene& s, const std::string& effect) {
+    const auto effects = declared_effects(s);
+    return std::find(effects.begin(), effects.end(), effect) != effects.end();
+  };
+  Scene s = builtin_scene("lee-flat");
+  EXPECT_FALSE(declares(s, "fog"));
+  s.effects.fog = 0.05;
+  EXPECT_TRUE(declares(s, "fog"));
+  s.camera.model = CameraModel::intrinsics;
+  s.camera.k1 = s.camera.k2 = s.camera.p1 = s.camera.p2 = 0;  // lee's lens has k1
+  EXPECT_FALSE(declares(s, "lens-distortion"));
+  for (double CameraSpec::*term : {&CameraSpec::k1, &CameraSpec::k2, &CameraSpec::p1, &CameraSpec::p2}) {
+    Scene lens = s;
+    lens.camera.*term = 0.01;
+    EXPECT_TRUE(declares(lens, "lens-distortion"));
+  }
+}
+
+// A smaller render of the same view: the image and every intrinsic in pixels scale by the width's ratio.
+// Broken variant: cx scaled twice and cy left where it was.
+TEST(SceneFile, ScaledToWidthScalesTheIntrinsicsWithTheImage) {
+  Scene s = builtin_scene("lee-flat");
+  s.width = 640;
+  s.height = 360;
+  s.camera.model = CameraModel::intrinsics;
+  s.camera.fx = 600;
+  s.camera.fy = 580;
+  s.camera.cx = 300;
+  s.camera.cy = 200;
+  const Scene half = scaled_to_width(s, 320);
+  EXPECT_EQ(half.width, 320);
+  EXPECT_EQ(half.height, 180);
+  EXPECT_EQ(half.camera.fx, 300);
+  EXPECT_EQ(half.camera.fy, 290);
+  EXPECT_EQ(half.camera.cx, 150);
+  EXPECT_EQ(half.camera.cy, 100);
+  s.camera.cx = s.camera.cy = -1;  // the image centre, whatever the size
+  EXPECT_EQ(scaled_to_width(s, 320).camera.cx, -1);
+  EXPECT_EQ(scaled_to_width(s, 320).camera.cy, -1);
 }
 
 TEST(SceneFile, SyntaxErrorsGiveLineAndColumn) {

@@ -25,6 +25,28 @@ TEST(Convergence, SmallerEpsGivesSmallerHitErrorAtMoreCost) {
   }
 }
 
+// Camera rays left unnormalised (the warped seed's defect) march t in units of |d|: the studies compare t |d|
+// with the reference's distance. A plane seen straight down through a 90-degree view, stepped by f / 2 so that
+// no step overshoots while |d| <= 2: every hit lies within hit_eps / cos of the plane (cos >= 0.5 here, so
+// 2e-4; 1e-3 leaves room for float). Broken variant: t compared as it is (off by t (|d| - 1), up to metres).
+TEST(Convergence, UnnormalisedRaysAreJudgedAlongTheirLength) {
+  sdf::Scene s = sdf::builtin_scene("lee-flat");
+  s.root = sdf::plane({0, 1, 0}, 0);
+  s.intended.reset();
+  s.camera = {};
+  s.camera.position = {0, 5, 0};
+  s.camera.target = {0, 0, 0};
+  s.camera.up = {0, 0, 1};
+  s.camera.fov_deg = 90;
+  s.camera.normalize_rays = false;
+  s.march.step_scale = 0.5;
+  s.march.hit_eps = 1e-4;
+  const auto rows = steps_study(s, {2000});
+  EXPECT_EQ(rows[0].decided, 1.0);
+  EXPECT_GT(rows[0].t_err_max, 0) << "no hit was judged";
+  EXPECT_LE(rows[0].t_err_max, 1e-3);
+}
+
 TEST(Convergence, GrazingRaysFollowTheSquareRootLaw) {
   for (const auto& row : grazing_study({1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6})) {
     // The law counts the steps spent near the sphere; approach and exit add a few more.

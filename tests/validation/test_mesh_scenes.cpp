@@ -57,6 +57,24 @@ TEST(MeshSpans, NotchedBoxMeshCastsLikeItsCsg) {
   EXPECT_GT(worst_span_difference(mesh, sdf::box(h)), 0.1);
 }
 
+// A line through the notched box that touches the notch's concave edge (0, 0, 0.3) from inside (inside on both
+// sides of it), entering and leaving exactly through edges of the box: o and d are exact in binary, so every point
+// o + s d named here is too, and each edge's two faces are crossed. One merged span, t in units of d (|d|^2 =
+// 5.96), from s = 0 to s = 1, with the normals of the faces most against the line at entry (-x) and most along
+// it at exit (+x). Broken variants: t taken along a unit direction; the merged span ending with its last
+// group's entry normal (-y).
+TEST(MeshSpans, ATouchingPointInsideMergesIntoOneSpanEndingWithTheExitNormal) {
+  const MeshReference ref(meshes::notched_box({1, 0.7, 0.6}).mesh);
+  const dvec3 o(-1, 0.7, 0.3), d(2, -1.4, 0);
+  const Spans s = ref.spans(o, d);
+  ASSERT_EQ(s.size(), 1u);
+  // CGAL constructs the crossing points in double: a few ulps.
+  EXPECT_NEAR(s[0].t0, 0, 1e-12);
+  EXPECT_NEAR(s[0].t1, 1, 1e-12);
+  EXPECT_NEAR(glm::length(s[0].n0 - dvec3(-1, 0, 0)), 0, 1e-12);
+  EXPECT_NEAR(glm::length(s[0].n1 - dvec3(1, 0, 0)), 0, 1e-12);
+}
+
 TEST(MeshSpans, MeshUnderCsgAndTransformsCastsLikeTheSameTreeOfBoxes) {
   const dvec3 h(0.5, 0.4, 0.3);
   const sdf::Node mesh_tree = sdf::unite({sdf::translate({0.3, 0, 0}, loaded_mesh(meshes::box(h).mesh)),

@@ -28,6 +28,11 @@ TEST(ZeroSet, WrongRadiiAreCaught) {
   // The torus's minor radius off by 1%.
   const ZeroSetCheck minor = exact_against_zero_set(sdf::compile(sdf::torus(1, 0.303)), *zero_set_mesh(sdf::torus(1, 0.3)));
   EXPECT_FALSE(minor.pass()) << minor.exact_err_max;
+  // A field at half the distance everywhere (a sphere of radius 0.5 seen through a doubling map: 0.5 (|p| - 1)),
+  // too small inside and out. Broken variant: only a field larger than the distance counted.
+  const sdf::Node halved = sdf::make(sdf::Op::affine, {{"model", {2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0}}}, {sdf::sphere(0.5)});
+  const ZeroSetCheck half = exact_against_zero_set(sdf::compile(halved), *zero_set_mesh(sdf::sphere(1)));
+  EXPECT_FALSE(half.pass()) << half.exact_err_max;
 }
 
 }  // namespace

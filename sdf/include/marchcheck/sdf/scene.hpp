@@ -177,9 +177,6 @@ int find_material(const Scene& scene, std::string_view name);
 // Applies one KEY=VALUE override (march parameters, time, width, height, camera.*). Throws SceneError
 // "KEY[=VALUE]: what was expected"; callers say which option it came from.
 void apply_setting(Scene& scene, std::string_view key, std::string_view value);
-// The keys apply_setting accepts.
-std::vector<std::string> setting_keys();
-
 // The same view at another width (height in proportion, intrinsics scaled with it), for cheaper renders.
 Scene scaled_to_width(const Scene& scene, int width);
 
