@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <numbers>
 #include <array>
 #include <chrono>
 #include <sstream>
@@ -155,7 +156,8 @@ glm::dvec3 material_color(const Context& ctx, int material, glm::dvec3 p, glm::d
   if (m.texture == sdf::TextureMapping::planar)
     return m.color * sample_texture(soil_texture_path(), q.x * m.texture_scale, q.z * m.texture_scale);
   const glm::dvec3 d = glm::normalize(q);
-  const double u = 0.5 + std::atan2(d.z, d.x) / (2 * M_PI), v = 0.5 - std::asin(std::clamp(d.y, -1.0, 1.0)) / M_PI;
+  const double u = 0.5 + std::atan2(d.z, d.x) / (2 * std::numbers::pi),
+               v = 0.5 - std::asin(std::clamp(d.y, -1.0, 1.0)) / std::numbers::pi;
   return m.color * sample_texture(soil_texture_path(), u * m.texture_scale, v * m.texture_scale);
 }
 
@@ -182,7 +184,7 @@ struct LitPoints {
 // vectorised but for the specular power (a library call), with glm's expressions spelled out in glm's order.
 template <class S, int N>
 void direct_light(const Context& ctx, LitPoints<S, N>& in) {
-  const auto& fx = ctx.scene.effects;
+  const auto& effects = ctx.scene.effects;
   const int n = in.n;
   auto dot = [](S ax, S ay, S az, S bx, S by, S bz) { return ax * bx + ay * by + az * bz; };
   // An eye on the surface point (a miss read as a hit at the ray origin) has no direction: face the normal.
@@ -196,7 +198,7 @@ void direct_light(const Context& ctx, LitPoints<S, N>& in) {
     ty[i] = away ? dy * inv : in.ny[i];
     tz[i] = away ? dz * inv : in.nz[i];
   }
-  const S ambient = S(fx.ambient);
+  const S ambient = S(effects.ambient);
   for (int i = 0; i < n; ++i) {
     in.r[i] = in.ar[i] * ambient * in.ao[i];
     in.g[i] = in.ag[i] * ambient * in.ao[i];
@@ -213,15 +215,15 @@ void direct_light(const Context& ctx, LitPoints<S, N>& in) {
     strength[i] = m ? S(m->specular_strength) : S(0);
     shininess[i] = m ? S(m->shininess) : S(1);
   }
-  const bool toon = fx.shading == sdf::Shading::toon;
-  const S bands = S(fx.toon_bands);
+  const bool toon = effects.shading == sdf::Shading::toon;
+  const S bands = S(effects.toon_bands);
   auto quantise = [&](S x) {
     const S band = std::min(std::floor(std::clamp(x, S(0), S(1)) * bands), bands - 1);
     return glm::mix(S(0.1), S(1), band / (bands - 1));
   };
   // Per-scene choices made outside the loops.
-  const bool clamped = fx.diffuse != sdf::Diffuse::unclamped;
-  const S floor = fx.diffuse == sdf::Diffuse::floor ? S(fx.diffuse_floor) : S(0);
+  const bool clamped = effects.diffuse != sdf::Diffuse::unclamped;
+  const S floor = effects.diffuse == sdf::Diffuse::floor ? S(effects.diffuse_floor) : S(0);
   for (size_t li = 0; li < ctx.scene.lights.size(); ++li) {
     const auto& light = ctx.scene.lights[li];
     const glm::vec<3, S> at(ctx.light_positions[li]), toward = -glm::normalize(glm::vec<3, S>(light.direction));
@@ -272,7 +274,7 @@ void direct_light(const Context& ctx, LitPoints<S, N>& in) {
   }
   if (toon)
     for (int i = 0; i < n; ++i)
-      if (dot(tx[i], ty[i], tz[i], in.nx[i], in.ny[i], in.nz[i]) < S(fx.silhouette)) in.r[i] = in.g[i] = in.b[i] = 0;
+      if (dot(tx[i], ty[i], tz[i], in.nx[i], in.ny[i], in.nz[i]) < S(effects.silhouette)) in.r[i] = in.g[i] = in.b[i] = 0;
 }
 
 constexpr size_t kMaxLights = 16;
@@ -379,7 +381,7 @@ template <class T>
 void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters& counters) {
   using V = Vec<T>;
   const auto& s = ctx.scene.march;
-  const auto& fx = ctx.scene.effects;
+  const auto& effects = ctx.scene.effects;
   const Pipeline& pipe = ctx.pipeline;
   const TapeField field{&ctx.tape};
   const int x1 = std::min(x0 + kTile, out.color.width), y1 = std::min(y0 + kTile, out.color.height);
@@ -611,15 +613,15 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
       if (!p.hit) return 0;
       const V at = p.origin + p.direction * p.record.t;
       double occlusion = 0, weights = 0, weight = 1;
-      for (int i = 1; i <= fx.ao_samples; ++i) {
-        const T h = T(fx.ao_distance * i / fx.ao_samples);
+      for (int i = 1; i <= effects.ao_samples; ++i) {
+        const T h = T(effects.ao_distance * i / effects.ao_samples);
         const double d = static_cast<double>(field(at + p.normal * h));
         occlusion += weight * std::clamp((static_cast<double>(h) - d) / static_cast<double>(h), 0.0, 1.0);
         weights += weight;
         weight *= 0.85;
       }
       p.ao = 1 - occlusion / weights;
-      return fx.ao_samples;
+      return effects.ao_samples;
     });
 
   double bounce_seconds = 0;
@@ -631,11 +633,11 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     using VS = glm::vec<3, S>;
     // One pixel's colour from its lit point (lit_at, or -1), finished and written with its images.
     auto finish = [&](PixelState& p, int x, int y, const auto& lit, int lit_at) {
-      VS color(fx.background);
+      VS color(effects.background);
       if (p.hit || p.on_mesh) {
         color = lit_at >= 0 ? VS(lit.r[lit_at], lit.g[lit_at], lit.b[lit_at]) : VS(0);
-        if (fx.ao == sdf::AmbientOcclusion::steps && !ctx.oracle)
-          color -= VS(S(static_cast<double>(p.record.steps) * p.record.steps * fx.ao_steps_scale));
+        if (effects.ao == sdf::AmbientOcclusion::steps && !ctx.oracle)
+          color -= VS(S(static_cast<double>(p.record.steps) * p.record.steps * effects.ao_steps_scale));
         if (pipe.reflection || pipe.refraction) {
           const auto bounce_start = Clock::now();
           const std::uint64_t reflection = counters.stages[kReflection].evals;
@@ -651,10 +653,10 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
           bounce_seconds += since(bounce_start);
         }
         color = glm::max(color, VS(0));
-        if (fx.fog > 0) color = glm::mix(VS(fx.fog_color), color, S(std::exp(-fx.fog * static_cast<double>(p.record.t))));
-      } else if (fx.glow > 0 && !ctx.oracle) {
-        const S g = std::clamp(S(1) - static_cast<S>(p.record.min_abs_f) / S(fx.glow_width), S(0), S(1));
-        color += VS(fx.glow_color) * (S(fx.glow) * g * g);
+        if (effects.fog > 0) color = glm::mix(VS(effects.fog_color), color, S(std::exp(-effects.fog * static_cast<double>(p.record.t))));
+      } else if (effects.glow > 0 && !ctx.oracle) {
+        const S g = std::clamp(S(1) - static_cast<S>(p.record.min_abs_f) / S(effects.glow_width), S(0), S(1));
+        color += VS(effects.glow_color) * (S(effects.glow) * g * g);
       }
       float* c = out.color.at(x, y);
       for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(color[i]);
@@ -688,7 +690,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
         if (!(p.hit || p.on_mesh) || !lighting) continue;
         const glm::dvec3 at = glm::dvec3(p.origin) + glm::dvec3(p.direction) * static_cast<double>(p.record.t);
         const VS n(p.normal);
-        const VS eye = fx.eye_is_ray_direction && !ctx.oracle ? VS(p.direction) : VS(p.origin);
+        const VS eye = effects.eye_is_ray_direction && !ctx.oracle ? VS(p.direction) : VS(p.origin);
         const VS albedo =
             pipe.materials || p.on_mesh ? VS(material_color(ctx, p.material, at, glm::dvec3(n))) : VS(S(0.8));
         lit_index[k - first] = lit.n;
@@ -699,7 +701,7 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
         finish(px[static_cast<size_t>(k)], x0 + k % w, y0 + k / w, lit, lit_index[k - first]);
     }
   };
-  if (ctx.shade == ShadePrecision::dual) {
+  if (ctx.shade == ShadePrecision::float64) {
     shade(0.0);
   } else {
     shade(0.0f);
@@ -739,7 +741,7 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const
   tbb::enumerable_thread_specific<Counters> counters;
   tbb::parallel_for(0, tiles_x * tiles_y, [&](int tile) {
     const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
-    if (scene.march.precision == sdf::Precision::dual) {
+    if (scene.march.precision == sdf::Precision::float64) {
       render_tile<double>(ctx, x0, y0, out, counters.local());
     } else {
       render_tile<float>(ctx, x0, y0, out, counters.local());

@@ -5,6 +5,7 @@
 #include "marchcheck/meshes/procedural.hpp"
 
 #include <cmath>
+#include <numbers>
 #include <functional>
 #include <utility>
 
@@ -79,7 +80,7 @@ Scene lee(bool terrain) {
   s.camera.pose = CameraPose::orbit;
   s.camera.distance = 6;
   s.camera.yaw_deg = 0;
-  s.camera.pitch_deg = 0.3 * 180 / M_PI;
+  s.camera.pitch_deg = 0.3 * 180 / std::numbers::pi;
   s.camera.fx = s.camera.fy = 600;
   s.camera.k1 = 0.3;
   Light light = point_light({0, 5, 0}, {1, 1, 1});

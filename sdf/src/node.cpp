@@ -15,7 +15,7 @@ std::string_view to_string(Kind kind) {
   switch (kind) {
     case Kind::exact: return "exact";
     case Kind::bound: return "bound";
-    case Kind::unbounded: return "unbounded";
+    case Kind::lipschitz: return "lipschitz";
     case Kind::estimate: return "estimate";
   }
   return "?";
@@ -222,7 +222,7 @@ double spectral_norm(const glm::dmat3& a) {
 Kind weaker(Kind a, Kind b) { return std::max(a, b); }
 
 // Combining children: min/max-like operators keep 1-Lipschitz fields 1-Lipschitz with the combined zero
-// set, so exact and bound children give a bound; an unbounded child makes the result unbounded.
+// set, so exact and bound children give a bound; a child with only a Lipschitz bound gives only that.
 FieldInfo combine(const std::vector<FieldInfo>& cs, const std::string& what) {
   FieldInfo out;
   out.kind = Kind::bound;
@@ -231,7 +231,7 @@ FieldInfo combine(const std::vector<FieldInfo>& cs, const std::string& what) {
     out.kind = weaker(out.kind, c.kind);
     out.lipschitz = std::max(out.lipschitz, c.lipschitz);
   }
-  out.reason = out.kind >= Kind::unbounded
+  out.reason = out.kind >= Kind::lipschitz
                    ? what + " of an " + std::string(to_string(out.kind)) + " field"
                    : what + " of exact/bound fields: a bound (exact only on parts of the surface)";
   return out;
@@ -318,7 +318,7 @@ FieldInfo derive_info(const Node& node, double time) {
         slope += 1.5 * std::sqrt(2.0) * std::abs(oct[i]) * std::abs(oct[i + 1]);
         top += std::max(oct[i], 0.0);
       }
-      FieldInfo out{Kind::unbounded, std::sqrt(1 + slope * slope),
+      FieldInfo out{Kind::lipschitz, std::sqrt(1 + slope * slope),
                     Box3{{-INFINITY, -INFINITY, -INFINITY}, {INFINITY, top, INFINITY}},
                     "height field: vertical distance, overestimates by up to sqrt(1 + slope^2)"};
       if (slope == 0) out = {Kind::exact, 1, out.bounds, "flat height field: a plane"};
@@ -394,7 +394,7 @@ FieldInfo derive_info(const Node& node, double time) {
     case Op::displace: {
       // |grad(a sin x sin y sin z)|^2 = a^2 w^2 (c1^2 s2^2 s3^2 + ...) <= a^2 w^2.
       const double a = std::abs(node.scalar("amplitude")), w = node.scalar("frequency");
-      return {weaker(child.kind, Kind::unbounded), child.lipschitz + a * w, expand(child.bounds, a),
+      return {weaker(child.kind, Kind::lipschitz), child.lipschitz + a * w, expand(child.bounds, a),
               "displacement adds amplitude * frequency to the Lipschitz bound"};
     }
     case Op::grid: {
@@ -402,7 +402,7 @@ FieldInfo derive_info(const Node& node, double time) {
       // most the child's L; outside the grid the added distance has slope 1. So |grad| <= sqrt(3) max(L, 1).
       // Interpolation is no bound: between samples it can exceed the distance (by up to sqrt(3)/2 of a cell
       // for an exact child).
-      return {weaker(child.kind, Kind::unbounded), std::sqrt(3.0) * std::max(child.lipschitz, 1.0),
+      return {weaker(child.kind, Kind::lipschitz), std::sqrt(3.0) * std::max(child.lipschitz, 1.0),
               grid_layout(node, child.bounds).box(),
               "trilinear interpolation of samples: each axis's slope at most the child's L, so |grad| <= sqrt(3) L"};
     }
@@ -429,7 +429,7 @@ FieldInfo derive_info(const Node& node, double time) {
           out.kind = Kind::bound;
           out.reason = "affine map that does not stretch: a bound";
         } else {
-          out.kind = weaker(child.kind, Kind::unbounded);
+          out.kind = weaker(child.kind, Kind::lipschitz);
           out.reason = "affine map stretches distances by its inverse's spectral norm";
         }
       }
@@ -447,7 +447,7 @@ FieldInfo derive_info(const Node& node, double time) {
         out.kind = weaker(child.kind, Kind::bound);
         out.reason = "repetition of a shape inside its cell: a bound when the shape is symmetric in its cell";
       } else {
-        out.kind = weaker(child.kind, Kind::unbounded);
+        out.kind = weaker(child.kind, Kind::lipschitz);
         out.reason = "repetition of a shape that crosses its cell: the field jumps at cell faces";
       }
       Box3 b;
@@ -487,7 +487,7 @@ FieldInfo derive_info(const Node& node, double time) {
       const Box3& cb = child.bounds;
       const double r = std::sqrt(std::max(cb.lo.x * cb.lo.x, cb.hi.x * cb.hi.x) +
                                  std::max(cb.lo.z * cb.lo.z, cb.hi.z * cb.hi.z));
-      return {weaker(child.kind, Kind::unbounded), child.lipschitz * (1 + std::abs(node.scalar("rate")) * r),
+      return {weaker(child.kind, Kind::lipschitz), child.lipschitz * (1 + std::abs(node.scalar("rate")) * r),
               Box3{{-r, cb.lo.y, -r}, {r, cb.hi.y, r}},
               "twist stretches by 1 + rate * radius (within the child's bounding cylinder)"};
     }
@@ -497,7 +497,7 @@ FieldInfo derive_info(const Node& node, double time) {
       const double ax = std::abs(amp * std::sin(r[1] * time)), ay = std::abs(amp * std::sin(r[3] * time));
       const double gx = ax * std::abs(f * std::sin(r[0] * time)), gy = ay * std::abs(f * std::sin(r[2] * time));
       const glm::dvec3 shift{0, 0, node.scalar("offset_z")};
-      return {weaker(child.kind, Kind::unbounded), child.lipschitz * (1 + std::max(gx, gy)),
+      return {weaker(child.kind, Kind::lipschitz), child.lipschitz * (1 + std::max(gx, gy)),
               Box3{child.bounds.lo + shift - glm::dvec3(ax, ay, 0), child.bounds.hi + shift + glm::dvec3(ax, ay, 0)},
               "sinusoidal warp: Lipschitz 1 + largest warp slope"};
     }

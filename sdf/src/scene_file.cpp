@@ -37,7 +37,7 @@ constexpr EnumName<NormalMethod> kNormals[] = {{NormalMethod::central, "central"
                                                {NormalMethod::analytic, "analytic"}};
 constexpr EnumName<ShadowMode> kShadows[] = {
     {ShadowMode::none, "none"}, {ShadowMode::hard, "hard"}, {ShadowMode::soft, "soft"}};
-constexpr EnumName<Precision> kPrecisions[] = {{Precision::single, "float"}, {Precision::dual, "double"}};
+constexpr EnumName<Precision> kPrecisions[] = {{Precision::float32, "float"}, {Precision::float64, "double"}};
 constexpr EnumName<CameraModel> kCameraModels[] = {{CameraModel::pinhole, "pinhole"},
                                                    {CameraModel::intrinsics, "intrinsics"},
                                                    {CameraModel::frustum, "frustum"},
@@ -516,8 +516,8 @@ std::vector<std::string> declared_effects(const Scene& scene) {
   auto add = [&](const std::string& e) {
     if (std::find(out.begin(), out.end(), e) == out.end()) out.push_back(e);
   };
-  const auto& fx = scene.effects;
-  if (!scene.lights.empty()) add(fx.shading == Shading::toon ? "toon" : "diffuse:" + enum_name(kDiffuse, fx.diffuse));
+  const auto& effects = scene.effects;
+  if (!scene.lights.empty()) add(effects.shading == Shading::toon ? "toon" : "diffuse:" + enum_name(kDiffuse, effects.diffuse));
   for (const auto& l : scene.lights) {
     if (l.shadow != ShadowMode::none) add("shadow:" + enum_name(kShadows, l.shadow) + "/" + enum_name(kBiases, l.bias));
     if (l.motion_rate != 0) add("moving-light");
@@ -525,14 +525,14 @@ std::vector<std::string> declared_effects(const Scene& scene) {
   for (const auto& m : scene.materials) {
     if (m.specular != SpecularModel::none) add("specular:" + enum_name(kSpeculars, m.specular));
     if (m.texture != TextureMapping::none) add("texture:" + enum_name(kTextures, m.texture));
-    if (m.reflectivity > 0 && fx.max_bounces > 0) add("reflection");
-    if (m.transparency > 0 && fx.max_bounces > 0) add("refraction");
-    if (m.ramp_value >= 0 && !fx.ramp.empty()) add("ramp");
+    if (m.reflectivity > 0 && effects.max_bounces > 0) add("reflection");
+    if (m.transparency > 0 && effects.max_bounces > 0) add("refraction");
+    if (m.ramp_value >= 0 && !effects.ramp.empty()) add("ramp");
   }
-  if (fx.ao != AmbientOcclusion::none) add("ao:" + enum_name(kAo, fx.ao));
+  if (effects.ao != AmbientOcclusion::none) add("ao:" + enum_name(kAo, effects.ao));
   if (!scene.meshes.empty()) add("mesh-occlusion");
-  if (fx.glow > 0) add("glow");
-  if (fx.fog > 0) add("fog");
+  if (effects.glow > 0) add("glow");
+  if (effects.fog > 0) add("fog");
   if (scene.camera.model == CameraModel::intrinsics &&
       (scene.camera.k1 != 0 || scene.camera.k2 != 0 || scene.camera.p1 != 0 || scene.camera.p2 != 0))
     add("lens-distortion");

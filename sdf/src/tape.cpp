@@ -199,8 +199,7 @@ Tape compile(const Node& root, double time) {
   if (auto error = validate_tree(root); !error.empty()) throw CompileError(error);
   Compiler c{{}, time};
   c.node(root);
-  c.tape.constants_f.assign(c.tape.constants.begin(), c.tape.constants.end());
-  for (size_t i = 0; i < c.tape.constants.size(); ++i) c.tape.constants_f[i] = static_cast<float>(c.tape.constants[i]);
+  c.tape.constants_f.assign(c.tape.constants.begin(), c.tape.constants.end());  // each rounded to float
   return std::move(c.tape);
 }
 

@@ -102,7 +102,7 @@ class EveryBuiltinPacket : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(EveryBuiltinPacket, SameOutcomesStepsEvaluationsNormalsAndShadowsAsOneRayAtATime) {
   const sdf::Scene scene = sdf::builtin_scene(GetParam());
-  const Mismatches m = scene.march.precision == sdf::Precision::dual ? compare<double>(scene) : compare<float>(scene);
+  const Mismatches m = scene.march.precision == sdf::Precision::float64 ? compare<double>(scene) : compare<float>(scene);
   EXPECT_EQ(m.march, 0);
   EXPECT_EQ(m.normals, 0);
   EXPECT_EQ(m.shadows, 0);

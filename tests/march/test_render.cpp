@@ -98,8 +98,8 @@ TEST_P(EveryBuiltin, EvaluationCountsAddUpAndNoPixelIsNaN) {
 // 0.4-1.3% of the channels on several scenes.
 TEST_P(EveryBuiltin, FloatShadingDrawsTheDoubleShadedEightBitImage) {
   const sdf::Scene scene = small(GetParam(), 128, 72);
-  const RenderResult single = render(scene, {}, nullptr, Images::asked, ShadePrecision::single);
-  const RenderResult dual = render(scene, {}, nullptr, Images::asked, ShadePrecision::dual);
+  const RenderResult single = render(scene, {}, nullptr, Images::asked, ShadePrecision::float32);
+  const RenderResult dual = render(scene, {}, nullptr, Images::asked, ShadePrecision::float64);
   EXPECT_EQ(single.total_evals, dual.total_evals);
   const std::vector<unsigned char> a = to_8bit(single.color), b = to_8bit(dual.color);
   ASSERT_EQ(a.size(), b.size());
@@ -136,8 +136,8 @@ TEST(Render, LambertAndPhongOnASphereEqualTheClosedForm) {
   s.march.hit_eps = 1e-9;
   s.march.max_steps = 100000;  // near-tangent hits converge slowly at this eps
   s.march.normal_eps = 1e-5;
-  s.march.precision = sdf::Precision::dual;  // the shading formula is under test here, not float rounding
-  const RenderResult r = render(s, {}, nullptr, Images::all, ShadePrecision::dual);
+  s.march.precision = sdf::Precision::float64;  // the shading formula is under test here, not float rounding
+  const RenderResult r = render(s, {}, nullptr, Images::all, ShadePrecision::float64);
   const Camera cam(s.camera, s.width, s.height);
   int checked = 0;
   for (int y = 0; y < s.height; y += 10)

@@ -127,7 +127,7 @@ TEST(Domain, AffineMapsDeclareTheirStretch) {
   // model = diag(0.5, 1, 1): the field is evaluated at diag(2, 1, 1) p, which doubles slopes along x.
   const Node squash = make(Op::affine, {{"model", {0.5, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}}}, {sphere(0.5)});
   const FieldInfo si = derive_info(squash);
-  EXPECT_EQ(si.kind, Kind::unbounded);
+  EXPECT_EQ(si.kind, Kind::lipschitz);
   EXPECT_NEAR(si.lipschitz, 2.0, 1e-9);
   const double measured = lipschitz_of(squash, {-1, -1, -1}, {1, 1, 1});
   EXPECT_LE(measured, si.lipschitz + 1e-6);
@@ -147,7 +147,7 @@ TEST(Domain, RepetitionDeclaresWhetherTheShapeCrossesItsCell) {
   EXPECT_EQ(derive_info(inside_cell).kind, Kind::bound);
   EXPECT_LE(lipschitz_of(inside_cell, {-3, -3, -3}, {3, 3, 3}), 1.0 + 1e-6);
   const Node crossing = make(Op::repeat, {{"period", {2, 2, 2}}}, {translate({0.8, 0, 0}, sphere(0.5))});
-  EXPECT_EQ(derive_info(crossing).kind, Kind::unbounded);
+  EXPECT_EQ(derive_info(crossing).kind, Kind::lipschitz);
   // The field jumps at cell faces: finite differences across a face see a slope far above 1.
   EXPECT_GT(lipschitz_of(crossing, {-3, -3, -3}, {3, 3, 3}), 10.0);
   const Node limited = make(Op::repeat_limited, {{"period", {2, 0, 0}}, {"count", {2, 0, 0}}}, {sphere(0.5)});
@@ -188,7 +188,7 @@ TEST(Deformations, DeclaredLipschitzBoundsHoldAndAreTight) {
   for (const auto& c : cases) {
     SCOPED_TRACE(c.name);
     const FieldInfo info = derive_info(c.node, c.time);
-    EXPECT_EQ(info.kind, Kind::unbounded);
+    EXPECT_EQ(info.kind, Kind::lipschitz);
     const glm::dvec3 lo = glm::max(info.bounds.lo, glm::dvec3(-3)), hi = glm::min(info.bounds.hi, glm::dvec3(3));
     const double measured = lipschitz_of(c.node, lo, hi, c.time);
     EXPECT_LE(measured, info.lipschitz * (1 + 1e-6));

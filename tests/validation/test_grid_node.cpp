@@ -21,7 +21,7 @@ Node grid(Node child, double resolution, double padding = 0.1) {
 TEST(GridNode, DeclaresUnboundedWithLipschitzSqrt3AndTheGridAsBounds) {
   const Node g = grid(sphere(1), 33);
   const FieldInfo info = derive_info(g);
-  EXPECT_EQ(info.kind, Kind::unbounded);
+  EXPECT_EQ(info.kind, Kind::lipschitz);
   EXPECT_DOUBLE_EQ(info.lipschitz, std::sqrt(3.0));
   const GridLayout layout = grid_layout(g, derive_info(sphere(1)).bounds);
   EXPECT_DOUBLE_EQ(layout.cell, 2.2 / 32);  // the sphere's bounds grown by 0.1 each side, 33 samples along

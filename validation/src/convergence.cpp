@@ -4,6 +4,7 @@
 #include "marchcheck/march/render.hpp"
 #include "marchcheck/validation/reference.hpp"
 #include "marchcheck/validation/statistics.hpp"
+#include "marchcheck/validation/validate.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,11 +14,11 @@ namespace marchcheck::validation {
 
 namespace {
 
+// The scene's rays marched as validate marches them (scene_subject: precision and miss reading included).
 ConvergenceRow study_row(const sdf::Scene& scene, double parameter, int rays_x, int rays_y) {
-  const sdf::Tape tape = sdf::compile(scene.root, scene.time);
+  const Subject subject = scene_subject(scene);
   const Reference ref(scene.intended ? *scene.intended : scene.root, scene.time);
   const march::Camera camera(scene.camera, scene.width, scene.height);
-  const march::MarchContext ctx = march::march_context(camera, sdf::derive_info(scene.root, scene.time).lipschitz);
   const double max_dist = std::isfinite(scene.march.max_dist) ? scene.march.max_dist : 1e6;
   std::vector<double> errors;
   int decided = 0, rays = 0;
@@ -26,14 +27,13 @@ ConvergenceRow study_row(const sdf::Scene& scene, double parameter, int rays_x, 
     for (int i = 0; i < rays_x; ++i) {
       const march::Ray ray = camera.ray((i + 0.5) * scene.width / rays_x, (j + 0.5) * scene.height / rays_y);
       const double len = glm::length(ray.direction);
-      const auto rec = march::march<float>(march::TapeField{&tape}, glm::vec3(ray.origin), glm::vec3(ray.direction),
-                                           scene.march, ctx);
+      const MarchedRay rec = subject.march(ray.origin, ray.direction);
       ++rays;
       evals += rec.evals;
       if (rec.decided()) ++decided;
       if (rec.outcome != march::Outcome::hit) continue;
       const ReferenceHit rh = ref.first_hit(ray.origin, ray.direction / len, max_dist);
-      if (rh.hit) errors.push_back(std::abs(static_cast<double>(rec.t) * len - rh.t));
+      if (rh.hit) errors.push_back(std::abs(rec.t * len - rh.t));
     }
   const double worst = errors.empty() ? 0 : *std::max_element(errors.begin(), errors.end());
   return {parameter, static_cast<double>(decided) / rays, percentile(errors, 0.99), worst, evals / rays};

@@ -71,7 +71,7 @@ bool is_exact_outside(const sdf::Node& n, double time) {
 
 // The scene's own field, marcher and estimators in arithmetic T.
 template <class T>
-Subject scene_subject(const sdf::Scene& scene) {
+Subject subject_in(const sdf::Scene& scene) {
   using V = glm::vec<3, T>;
   const auto tape = std::make_shared<const sdf::Tape>(sdf::compile(scene.root, scene.time));
   const sdf::FieldInfo info = sdf::derive_info(scene.root, scene.time);
@@ -501,9 +501,11 @@ SceneResult judge(const sdf::Scene& scene, const Subject& subject, const Validat
 }  // namespace
 
 SceneResult validate_scene(const sdf::Scene& scene, const ValidateOptions& options) {
-  const Subject own = scene.march.precision == sdf::Precision::dual ? scene_subject<double>(scene)
-                                                                    : scene_subject<float>(scene);
-  return judge(scene, own, options, true);
+  return judge(scene, scene_subject(scene), options, true);
+}
+
+Subject scene_subject(const sdf::Scene& scene) {
+  return scene.march.precision == sdf::Precision::float64 ? subject_in<double>(scene) : subject_in<float>(scene);
 }
 
 SceneResult validate_subject(const sdf::Scene& scene, const Subject& subject, const ValidateOptions& options) {

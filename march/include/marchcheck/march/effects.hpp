@@ -20,7 +20,6 @@ inline double schlick_fresnel(double cos_incidence, double n1, double n2) {
   return r0 * r0 + (1 - r0 * r0) * c * c * c * c * c;
 }
 
-template <class T>
 struct ShadowResult {
   double visibility = 1;  // 1 lit, 0 in full shadow
   int evals = 0;
@@ -59,10 +58,10 @@ double hard_visibility(const RayRecord<T>& r, const ShadowStart<T>& start, const
 // Visibility of a light from surface point p with normal n, hit at distance t_hit along its primary ray.
 // light_dist: distance to a point light (infinity for a directional one).
 template <class T, class F>
-ShadowResult<T> shadow_visibility(const F& f, glm::vec<3, T> p, glm::vec<3, T> n, glm::vec<3, T> to_light,
+ShadowResult shadow_visibility(const F& f, glm::vec<3, T> p, glm::vec<3, T> n, glm::vec<3, T> to_light,
                                   T light_dist, T t_hit, const sdf::Light& light, const MarchSettings& s,
                                   const MarchContext& c) {
-  ShadowResult<T> out;
+  ShadowResult out;
   const ShadowStart<T> start = shadow_start(p, n, light_dist, t_hit, light, s, c);
   const T eps = start.eps;
   const glm::vec<3, T> origin = start.origin;

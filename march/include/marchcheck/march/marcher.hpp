@@ -22,6 +22,9 @@ enum class Outcome : std::uint8_t { hit, miss_far, miss_steps, inside, invalid }
 
 std::string_view to_string(Outcome outcome);
 
+// A march that reached a verdict: it hit, or got past max_dist (not out of steps, inside or invalid).
+constexpr bool decided(Outcome o) { return o == Outcome::hit || o == Outcome::miss_far; }
+
 template <class T>
 struct RayRecord {
   Outcome outcome = Outcome::invalid;
@@ -31,7 +34,7 @@ struct RayRecord {
   T min_abs_f = std::numeric_limits<T>::infinity();  // smallest |f| seen
   T t_at_min = 0;                                    // and where
   T last_abs_f = std::numeric_limits<T>::infinity();
-  bool decided() const { return outcome == Outcome::hit || outcome == Outcome::miss_far; }
+  bool decided() const { return march::decided(outcome); }
 };
 
 // What a march needs beyond the settings: the field's declared Lipschitz bound (for the scaled marcher) and the

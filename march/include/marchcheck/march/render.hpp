@@ -86,9 +86,9 @@ struct SurfaceOracle {
 // but for pixels on a rounding boundary (test_render.cpp states how many), at a fraction of the cost; dual is
 // the reference that claim is tested against. Secondary rays shade in double either way.
 enum class Images { all, asked };
-enum class ShadePrecision { single, dual };
+enum class ShadePrecision { float32, float64 };
 RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs = {}, const SurfaceOracle* oracle = nullptr,
-                    Images images = Images::all, ShadePrecision shade = ShadePrecision::single);
+                    Images images = Images::all, ShadePrecision shade = ShadePrecision::float32);
 
 // Dotted cost metrics: cost.stages.<stage>.evals/.seconds, cost.evals_per_pixel, cost.steps_max, cost.seconds.
 std::map<std::string, double> cost_metrics(const RenderResult& result);

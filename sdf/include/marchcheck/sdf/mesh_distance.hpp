@@ -67,7 +67,7 @@ class MeshDistance {
   // leaf with kLeafBit set; an unused one has an empty box (lo = +inf), which is never nearer than any distance.
   static constexpr std::uint32_t kLeafBit = 1u << 31;
   template <class S>
-  struct Node {
+  struct BvhNode {
     std::array<S, 4> lo[3], hi[3];
     std::array<std::uint32_t, 4> child;
   };
@@ -76,7 +76,7 @@ class MeshDistance {
   struct Arrays {
     std::vector<std::array<glm::vec<3, S>, 3>> corners;
     std::vector<std::array<glm::vec<3, S>, 7>> normals;  // by Feature
-    std::vector<Node<S>> nodes;                          // the root first
+    std::vector<BvhNode<S>> nodes;                          // the root first
     std::vector<Leaf<S>> leaves;
   };
   template <class S>
@@ -194,7 +194,7 @@ MeshDistance::Closest<S> MeshDistance::closest(glm::vec<3, S> p) const {
           best_slot = l.first + k;
         }
     } else {
-      const Node<S>& n = a.nodes[at];
+      const BvhNode<S>& n = a.nodes[at];
       S box2[4];
       detail::boxes_distance2(p, n.lo, n.hi, box2);
       // The children nearer than the best, nearest first.

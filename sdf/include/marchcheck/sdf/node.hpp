@@ -66,7 +66,7 @@ enum class Op : unsigned char {
 enum class Kind : unsigned char {
   exact,     // |f| equals the distance
   bound,     // |f| never exceeds the distance
-  unbounded,  // neither: only f/L is safe to step by
+  lipschitz,  // neither, but Lipschitz with a known constant L: only f/L is safe to step by
   estimate    // no distance property and no Lipschitz constant (a fractal's escape-time distance estimate):
               // its FieldInfo::lipschitz is the divisor it is stepped by, a heuristic that only validation
               // against the set's own definition can judge

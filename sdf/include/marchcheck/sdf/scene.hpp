@@ -25,7 +25,7 @@ enum class ShadowMode { none, hard, soft };
 // start at p + n * (hit threshold at t + bias * float epsilon * (|p| + t)), which holds at any scene scale.
 enum class ShadowBias { seed_offset, seed_ignore, scaled };
 enum class SoftShadow { classic, improved };
-enum class Precision { single, dual };  // float or double arithmetic in the march
+enum class Precision { float32, float64 };  // float or double arithmetic in the march
 
 // The over-relaxation factors a relaxed march takes: [1, 2). At 2 the relaxed step's fallback test (two
 // unbounding spheres that must overlap) no longer holds. Scene files and --set refuse others; a march given one
@@ -45,7 +45,7 @@ struct MarchSettings {
   NormalMethod normal = NormalMethod::central;
   double normal_eps = 1e-3;
   bool normal_eps_scaled = false;  // normal_eps * t instead of an absolute epsilon
-  Precision precision = Precision::single;
+  Precision precision = Precision::float32;
   // How the renderer reads the record, as a seed consumer would: a miss reported as distance 0 (fogerty).
   bool miss_as_zero = false;
 };

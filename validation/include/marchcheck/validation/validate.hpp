@@ -71,6 +71,7 @@ struct MarchedRay {
   double t = 0;   // where the march ended, in units of |direction|
   int evals = 0;  // field evaluations it made
   std::optional<glm::dvec3> normal;  // at a hit: the marcher's own normal, when it computes one
+  bool decided() const { return march::decided(outcome); }
 
   static MarchedRay hit(double t, std::optional<glm::dvec3> normal = std::nullopt) {
     return {march::Outcome::hit, t, 0, normal};
@@ -95,6 +96,11 @@ struct Subject {
   bool exact_outside = false;  // the field promises the true distance outside its solid (hits within hit_eps)
   double unit_roundoff = 0;    // of the march's arithmetic: how far rounding may move a hit point, per unit
 };
+
+// The scene's own subject: its compiled tape, marched as the scene declares (marcher, limits, precision, and a
+// miss read as distance 0 where the scene says its consumer does so), with its normal estimator and shadows. What
+// validate_scene judges, and what every study of the scene marches.
+Subject scene_subject(const sdf::Scene& scene);
 
 // The checks of validate_scene on a subject, against the references of scene (its intended tree, else its root),
 // marched through its camera with its march settings (hit threshold, limits, step rule) and lights. No image
