@@ -1,6 +1,6 @@
 #include "marchcheck/commands/commands.hpp"
 
-#include "marchcheck/march/atomic_file.hpp"
+#include "marchcheck/files/atomic_file.hpp"
 #include "marchcheck/march/render.hpp"
 #include "marchcheck/reports/compare.hpp"
 #include "marchcheck/reports/results_io.hpp"
@@ -130,7 +130,7 @@ int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err) {
     error = validation::render_image_pair(scene, scene.width).difference;
   try {
     march::write_render(result, cmd.output, aovs, error ? &*error : nullptr);
-    if (cmd.stats) march::write_bytes_atomically(*cmd.stats, metrics_json(march::cost_metrics(result)));
+    if (cmd.stats) files::write_bytes_atomically(*cmd.stats, metrics_json(march::cost_metrics(result)));
   } catch (const std::exception& e) {
     err << "marchcheck render: " << e.what() << "\n";
     return kBadInput;
@@ -161,7 +161,7 @@ int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& er
   }
   if (cmd.json) {
     try {
-      march::write_bytes_atomically(*cmd.json, validate_json(results));
+      files::write_bytes_atomically(*cmd.json, validate_json(results));
     } catch (const std::exception& e) {
       err << "marchcheck validate: " << e.what() << "\n";
       return kBadInput;
@@ -202,7 +202,7 @@ int run_stability(const StabilityCommand& cmd, std::ostream& out, std::ostream& 
   out << stable << " of " << cases.size() << " cases stable" << (cmd.naive ? " (naive variants)" : "") << "\n";
   if (cmd.json) {
     try {
-      march::write_bytes_atomically(*cmd.json, stability_json(cases, options));
+      files::write_bytes_atomically(*cmd.json, stability_json(cases, options));
     } catch (const std::exception& e) {
       err << "marchcheck stability: " << e.what() << "\n";
       return kBadInput;
@@ -308,8 +308,8 @@ int run_sweep(const SweepCommand& cmd, std::ostream& out, std::ostream& err) {
   }
   if (!options.targets.empty() && !result.cheapest_meeting) out << "no combination meets the target\n";
   try {
-    if (cmd.json) march::write_bytes_atomically(*cmd.json, sweep_json(result));
-    if (cmd.csv) march::write_bytes_atomically(*cmd.csv, sweep_csv(result));
+    if (cmd.json) files::write_bytes_atomically(*cmd.json, sweep_json(result));
+    if (cmd.csv) files::write_bytes_atomically(*cmd.csv, sweep_csv(result));
   } catch (const std::exception& e) {
     err << "marchcheck sweep: " << e.what() << "\n";
     return kBadInput;

@@ -1,7 +1,7 @@
 // OpenImageIO lives in this file alone: OIIO 2.4 forces its bundled fmt settings on any file that includes it.
 #include "marchcheck/march/render.hpp"
 
-#include "marchcheck/march/atomic_file.hpp"
+#include "marchcheck/files/atomic_file.hpp"
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -63,7 +63,7 @@ void write_image(const Image& image, const std::string& path, bool srgb) {
     ok = out->close() && ok;
   }
   if (!ok) throw std::runtime_error(path + ": cannot write the image: " + out->geterror());
-  write_bytes_atomically(path, {reinterpret_cast<const char*>(bytes.data()), bytes.size()});
+  files::write_bytes_atomically(path, {reinterpret_cast<const char*>(bytes.data()), bytes.size()});
 }
 
 Image heat_map(const Image& values, double max_value) {

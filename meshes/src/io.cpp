@@ -1,10 +1,10 @@
 #include "marchcheck/meshes/io.hpp"
 
+#include "marchcheck/files/atomic_file.hpp"
+
 #include "marchcheck/meshes/procedural.hpp"
 #include "openmesh_io.hpp"
 #include "preflight.hpp"
-
-#include <unistd.h>
 
 #include <bit>
 #include <cfloat>
@@ -181,26 +181,17 @@ Mesh load_mesh_source(const std::string& source) {
 void save_mesh(const Mesh& mesh, const std::string& path) {
   const Format format = format_or_fail(path);
   check_writable(path, mesh);
-  const fs::path target(path);
-  const fs::path temporary = target.parent_path() / ("." + target.stem().string() + ".tmp-" +
-                                                     std::to_string(::getpid()) + target.extension().string());
-  std::error_code ec;
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) fail(path, "cannot create " + temporary.string() + " (missing folder or no permission?)");
-    std::string reason;
-    const bool written = detail::openmesh_write(mesh, format, out, reason);
-    out.close();
-    if (!written || out.fail()) {
-      fs::remove(temporary, ec);
-      fail(path, reason.empty() ? "cannot write " + temporary.string() + " (disk full?)" : reason);
-    }
-  }
-  fs::rename(temporary, target, ec);
-  if (ec) {
-    const std::string message = ec.message();
-    fs::remove(temporary, ec);
-    fail(path, "cannot replace it with " + temporary.string() + ": " + message);
+  try {
+    files::write_atomically(path, [&](const std::string& temporary) {
+      std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+      if (!out) throw std::runtime_error("cannot create " + temporary + " (missing folder or no permission?)");
+      std::string reason;
+      const bool written = detail::openmesh_write(mesh, format, out, reason);
+      out.close();  // the last buffer reaches the disk here: its failure counts too
+      if (!written || out.fail()) throw std::runtime_error(reason.empty() ? "cannot write " + temporary + " (disk full?)" : reason);
+    });
+  } catch (const std::runtime_error& e) {
+    throw MeshError(e.what());  // "PATH: problem"
   }
 }
 

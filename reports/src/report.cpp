@@ -1,7 +1,7 @@
 // marchcheck report: the accuracy report of the built-in scenes as a plain HTML folder.
 #include "marchcheck/reports/report.hpp"
 
-#include "marchcheck/march/atomic_file.hpp"
+#include "marchcheck/files/atomic_file.hpp"
 #include "marchcheck/march/render.hpp"
 #include "marchcheck/reports/results_io.hpp"
 #include "plot_script.hpp"
@@ -162,7 +162,7 @@ class Builder {
     write_data("stability.json", stability_json(stability_, {}));
     step("plots");
     draw_plots(root_ / "data", root_ / "plots");
-    march::write_bytes_atomically((root_ / "index.html").string(), html());
+    files::write_bytes_atomically((root_ / "index.html").string(), html());
     return all_as_expected() ? 0 : 1;
   }
 
@@ -200,7 +200,7 @@ class Builder {
   }
 
   void write_data(const std::string& file, const std::string& text) const {
-    march::write_bytes_atomically((root_ / "data" / file).string(), text);
+    files::write_bytes_atomically((root_ / "data" / file).string(), text);
   }
 
   void save_sweep(const std::string& name, const validation::SweepResult& result) {

@@ -1,5 +1,5 @@
 // Whole files or none: a write that fails leaves the previous file as it was and no temporary behind.
-#include "marchcheck/march/atomic_file.hpp"
+#include "marchcheck/files/atomic_file.hpp"
 #include "marchcheck/march/render.hpp"
 #include "file_size_limit.hpp"
 
@@ -15,6 +15,9 @@ namespace marchcheck::march {
 namespace {
 
 namespace fs = std::filesystem;
+using files::temp_name;
+using files::write_atomically;
+using files::write_bytes_atomically;
 
 class AtomicFile : public ::testing::Test {
  protected:

@@ -1,4 +1,4 @@
-// Result files: flat dotted metrics as JSON (written with march::write_bytes_atomically).
+// Result files: flat dotted metrics as JSON (written with files::write_bytes_atomically).
 #pragma once
 
 #include "marchcheck/validation/stability.hpp"

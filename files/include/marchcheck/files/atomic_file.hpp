@@ -1,11 +1,11 @@
-// Whole files or none: every image and result file the project writes goes through here.
+// Whole files or none: every image, mesh and result file the project writes goes through here.
 #pragma once
 
 #include <functional>
 #include <string>
 #include <string_view>
 
-namespace marchcheck::march {
+namespace marchcheck::files {
 
 // "dir/name.ext" -> "dir/.name.ext.tmp-PID.ext": same folder (so the rename is atomic), same extension (image
 // writers pick the format from it), hidden, and distinct per process.
@@ -20,4 +20,4 @@ void write_atomically(const std::string& path, const std::function<void(const st
 // at close) throws "PATH: problem" and leaves whatever was at path.
 void write_bytes_atomically(const std::string& path, std::string_view bytes);
 
-}  // namespace marchcheck::march
+}  // namespace marchcheck::files

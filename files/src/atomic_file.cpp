@@ -1,4 +1,4 @@
-#include "marchcheck/march/atomic_file.hpp"
+#include "marchcheck/files/atomic_file.hpp"
 
 #include <unistd.h>
 
@@ -6,7 +6,7 @@
 #include <fstream>
 #include <stdexcept>
 
-namespace marchcheck::march {
+namespace marchcheck::files {
 
 std::string temp_name(const std::string& path) {
   std::filesystem::path tmp(path);
@@ -42,4 +42,4 @@ void write_bytes_atomically(const std::string& path, std::string_view bytes) {
   });
 }
 
-}  // namespace marchcheck::march
+}  // namespace marchcheck::files
