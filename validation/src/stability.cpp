@@ -590,28 +590,29 @@ void sharp_normals(Run& r, const sdf::Node& node, const std::vector<dvec3>& on, 
     return vec3(field(q + vec3(e, 0, 0)) - field(q - vec3(e, 0, 0)), field(q + vec3(0, e, 0)) - field(q - vec3(0, e, 0)),
                 field(q + vec3(0, 0, e)) - field(q - vec3(0, 0, e))) / (2 * e);
   };
-  const auto normal = [&](dvec3 p, bool on_feature) {
+  const auto normal = [&](dvec3 p, const std::vector<dvec3>& at, bool on_feature) {
     const vec3 q(p);
     if (r.naive()) return dvec3(glm::normalize(gradient(q, 1e-9f)));  // epsilon under float's spacing: 0 / 0
     if (r.as("unnormalised")) return dvec3(gradient(q, eps));
     if (r.as("inward_on_feature") && on_feature) {  // a wrong tie-break where the sides meet: into the solid
       dvec3 sum(0);
-      for (const dvec3& s : sides(p)) sum += glm::normalize(s);
+      for (const dvec3& s : at) sum += glm::normalize(s);
       return -glm::normalize(sum);
     }
     return dvec3(march::estimate_normal(field, q, sdf::NormalMethod::central, eps).n);
   };
   int bad = 0;
+  // On the feature: the angle to its normal cone; beside it: to the nearest side's normal.
   const auto worst = [&](const std::vector<dvec3>& pts, bool on_feature) {
     double w = 0;
     for (const dvec3& p : pts) {
-      const dvec3 n = normal(p, on_feature);
+      const std::vector<dvec3> at = sides(p);
+      const dvec3 n = normal(p, at, on_feature);
       if (!std::isfinite(n.x + n.y + n.z) || std::abs(glm::length(n) - 1) > 1e-5) ++bad;
       if (!std::isfinite(n.x + n.y + n.z) || glm::dot(n, n) == 0) continue;  // no direction to judge
-      double angle = 180;
-      if (on_feature) angle = cone_angle_deg(n, sides(p));
-      for (const dvec3& s : sides(p))
-        if (!on_feature) angle = std::min(angle, angle_deg(n, s));
+      double angle = on_feature ? cone_angle_deg(n, at) : 180;
+      if (!on_feature)
+        for (const dvec3& s : at) angle = std::min(angle, angle_deg(n, s));
       w = std::max(w, angle);
     }
     return w;
