@@ -383,7 +383,7 @@ Node node_from_json(const json& j, const std::string& path, const Scene& scene, 
   const OpInfo* info = find_op(type);
   if (!info) {
     std::string names;
-    for (const auto& op : all_ops()) names += std::string(names.empty() ? "" : ", ") + std::string(op.name);
+    for (const Op op : all_ops()) names += std::string(names.empty() ? "" : ", ") + std::string(op_info(op).name);
     fail(path + "/type", "unknown type '" + type + "'; expected one of " + names);
   }
   Node n;

@@ -1,11 +1,16 @@
 // Batched tape evaluation: the stacks hold kBatch lanes per entry (structure of arrays) and each instruction is
-// one loop over the lanes, which GCC vectorises for the target (-march=native: AVX2 or AVX-512). Every loop
-// writes the one-point code's expression in the same order, so contraction into FMA and rounding match it.
+// one loop over the lanes calling its kernel, the same function the one-point tape calls, so the two agree bit
+// for bit (no FMA contraction: -ffp-contract=off). GCC vectorises the loops of the branch-free kernels for the
+// target (-march=native: AVX2 or AVX-512); the others run lane after lane without the one-point tape's
+// dispatch per instruction.
 #include "marchcheck/sdf/tape.hpp"
 
 namespace marchcheck::sdf {
 
 namespace {
+
+template <class T>
+using v3 = glm::vec<3, T>;
 
 template <class T, bool WithMaterial>
 struct Stacks {
@@ -16,232 +21,102 @@ struct Stacks {
   alignas(64) T z[kMaxPointStack][kBatch];
 };
 
-// One instruction for each lane through the one-point code: the lane's top two values and top point are copied
-// to small stacks, stepped, and copied back (an instruction moves each stack by at most one entry).
-template <class T, bool WithMaterial, class Values, class Points>
-void step_lanes(const Tape& tape, const Instr& in, Stacks<T, WithMaterial>& s, const Values& v, const Points& p,
-                int& vt, int& pt, int n) {
-  const int below = vt >= 1 ? 1 : vt;  // index of the lane's old top in the small stack
-  int lvt = below, lpt = 0;
-  for (int i = 0; i < n; ++i) {
-    T values[3];
-    int materials[3];
-    glm::vec<3, T> points[2];
-    for (int j = 0; j <= below; ++j) values[j] = v(vt - below + j)[i];
-    if constexpr (WithMaterial)
-      for (int j = 0; j <= below; ++j) materials[j] = s.m[vt - below + j][i];
-    points[0] = {p(pt, 0)[i], p(pt, 1)[i], p(pt, 2)[i]};
-    lvt = below;
-    lpt = 0;
-    detail::step<T, WithMaterial>(tape, in, values, materials, lvt, points, lpt);
-    for (int j = 0; j <= lvt; ++j) v(vt - below + j)[i] = values[j];
-    if constexpr (WithMaterial)
-      for (int j = 0; j <= lvt; ++j) s.m[vt - below + j][i] = materials[j];
-    if (lpt == 1) {
-      s.x[pt + 1][i] = points[1].x;
-      s.y[pt + 1][i] = points[1].y;
-      s.z[pt + 1][i] = points[1].z;
-    }
-  }
-  vt += lvt - below;
-  pt += lpt;
+// The stacks of one batch. The bottom entries are the caller's arrays: the points read in place, the result
+// written in place (copies of 64 lanes were library calls, as costly as a cheap instruction).
+template <class T, bool WithMaterial>
+struct Lanes {
+  Stacks<T, WithMaterial> s;  // left uninitialised: every entry is written before it is read
+  const T* x0;
+  const T* y0;
+  const T* z0;
+  T* out;
+  int n;
+  int vt = -1, pt = 0;
+
+  Lanes(const T* x, const T* y, const T* z, T* out_, int n_) : x0(x), y0(y), z0(z), out(out_), n(n_) {}
+
+  T* value(int level) { return level == 0 ? out : s.v[level]; }
+  const T* px() const { return pt == 0 ? x0 : s.x[pt]; }
+  const T* py() const { return pt == 0 ? y0 : s.y[pt]; }
+  const T* pz() const { return pt == 0 ? z0 : s.z[pt]; }
+};
+
+// One loop per kernel shape (see kernels/kernel.hpp), each lane as the one-point tape's step does it.
+template <auto Kernel, class T, bool WithMaterial>
+MARCHCHECK_KERNEL void source(const kernels::Args<T>& k, const Instr& in, Lanes<T, WithMaterial>& l) {
+  const T* __restrict px = l.px();
+  const T* __restrict py = l.py();
+  const T* __restrict pz = l.pz();
+  T* __restrict r = l.value(++l.vt);
+  for (int i = 0; i < l.n; ++i) r[i] = Kernel(k, v3<T>(px[i], py[i], pz[i]));
+  if constexpr (WithMaterial)
+    for (int i = 0; i < l.n; ++i) l.s.m[l.vt][i] = in.material;
 }
 
-// The one-point code's rule for a binary instruction: the result's material is b's where b decides the value.
-template <class T, bool WithMaterial, class Values>
-void combine_materials(const Instr& in, Stacks<T, WithMaterial>& s, const Values& v, int vt, int n) {
+template <auto Kernel, class T, bool WithMaterial>
+MARCHCHECK_KERNEL void value(const kernels::Args<T>& k, const Instr&, Lanes<T, WithMaterial>& l) {
+  const T* __restrict px = l.px();
+  const T* __restrict py = l.py();
+  const T* __restrict pz = l.pz();
+  T* __restrict r = l.value(l.vt);
+  for (int i = 0; i < l.n; ++i) r[i] = Kernel(k, r[i], v3<T>(px[i], py[i], pz[i]));
+}
+
+template <auto Kernel, class T, bool WithMaterial>
+MARCHCHECK_KERNEL void binary(const kernels::Args<T>& k, const Instr&, Lanes<T, WithMaterial>& l) {
+  const T* __restrict b = l.value(l.vt--);
+  T* __restrict r = l.value(l.vt);
   if constexpr (WithMaterial) {
-    const T* __restrict x = v(vt);
-    const T* __restrict b = v(vt + 1);
-    int* __restrict m = s.m[vt];
-    const int* __restrict mb = s.m[vt + 1];
-    switch (in.op) {
-      case TapeOp::min:
-      case TapeOp::smooth_min:
-        for (int i = 0; i < n; ++i) m[i] = b[i] < x[i] ? mb[i] : m[i];
-        break;
-      case TapeOp::max:
-      case TapeOp::smooth_max:
-        for (int i = 0; i < n; ++i) m[i] = x[i] < b[i] ? mb[i] : m[i];
-        break;
-      default:
-        for (int i = 0; i < n; ++i) m[i] = x[i] < -b[i] ? mb[i] : m[i];
-        break;
+    int* __restrict m = l.s.m[l.vt];
+    const int* __restrict mb = l.s.m[l.vt + 1];
+    for (int i = 0; i < l.n; ++i) {
+      const kernels::Combined<T> c = Kernel(k, r[i], b[i]);
+      m[i] = c.b_decides ? mb[i] : m[i];
+      r[i] = c.value;
     }
+  } else {
+    for (int i = 0; i < l.n; ++i) r[i] = Kernel(k, r[i], b[i]).value;
+  }
+}
+
+template <auto Kernel, class T, bool WithMaterial>
+MARCHCHECK_KERNEL void point(const kernels::Args<T>& k, const Instr&, Lanes<T, WithMaterial>& l) {
+  const T* __restrict px = l.px();
+  const T* __restrict py = l.py();
+  const T* __restrict pz = l.pz();
+  ++l.pt;
+  T* __restrict qx = l.s.x[l.pt];
+  T* __restrict qy = l.s.y[l.pt];
+  T* __restrict qz = l.s.z[l.pt];
+  for (int i = 0; i < l.n; ++i) {
+    const v3<T> q = Kernel(k, v3<T>(px[i], py[i], pz[i]));
+    qx[i] = q.x;
+    qy[i] = q.y;
+    qz[i] = q.z;
   }
 }
 
 template <class T, bool WithMaterial>
 void run_batch(const Tape& tape, const T* x, const T* y, const T* z, T* out, int* material, int n) {
-  Stacks<T, WithMaterial> s;
-  int vt = -1, pt = 0;
-  // The bottom entries are the caller's arrays: the points read in place, the result written in place (copies
-  // of 64 lanes were library calls, as costly as a cheap instruction).
-  const auto v = [&](int level) { return level == 0 ? out : s.v[level]; };
-  const auto p = [&](int level, int axis) -> T* {
-    if (level == 0) return const_cast<T*>(axis == 0 ? x : axis == 1 ? y : z);  // only read
-    return axis == 0 ? s.x[level] : axis == 1 ? s.y[level] : s.z[level];
-  };
+  Lanes<T, WithMaterial> l(x, y, z, out, n);
   for (const Instr& in : tape.code) {
-    const std::uint32_t a = in.arg;
-    if constexpr (WithMaterial) {
-      // A vectorised primitive pushes a value whose material is its own (lane-by-lane ones set theirs).
-      const bool vector_primitive = in.op == TapeOp::sphere || in.op == TapeOp::plane || in.op == TapeOp::box ||
-                                    in.op == TapeOp::round_box || in.op == TapeOp::torus;
-      if (vector_primitive)
-        for (int i = 0; i < n; ++i) s.m[vt + 1][i] = in.material;
-    }
-    auto k = [&](std::uint32_t i) { return tape.c<T>(a + i); };
-    const T* __restrict px = p(pt, 0);
-    const T* __restrict py = p(pt, 1);
-    const T* __restrict pz = p(pt, 2);
+    const kernels::Args<T> k = tape.args<T>(in);
     switch (in.op) {
-      case TapeOp::sphere: {
-        T* __restrict r = v(++vt);
-        const T k0 = k(0);
-        for (int i = 0; i < n; ++i) {
-          T d = px[i] * px[i];
-          d += py[i] * py[i];
-          d += pz[i] * pz[i];
-          r[i] = std::sqrt(d) - k0;
-        }
-        break;
-      }
-      case TapeOp::plane: {
-        T* __restrict r = v(++vt);
-        const T k0 = k(0), k1 = k(1), k2 = k(2), k3 = k(3);
-        for (int i = 0; i < n; ++i) r[i] = px[i] * k0 + py[i] * k1 + pz[i] * k2 + k3;
-        break;
-      }
-      case TapeOp::box:
-      case TapeOp::round_box: {
-        T* __restrict r = v(++vt);
-        const T bx = k(0), by = k(1), bz = k(2), rr = in.op == TapeOp::round_box ? k(3) : T(0);
-        const bool rounded = in.op == TapeOp::round_box;
-        for (int i = 0; i < n; ++i) {
-          T qx = std::abs(px[i]) - bx, qy = std::abs(py[i]) - by, qz = std::abs(pz[i]) - bz;
-          if (rounded) {
-            qx = qx + rr;
-            qy = qy + rr;
-            qz = qz + rr;
-          }
-          const T mx = qx < T(0) ? T(0) : qx, my = qy < T(0) ? T(0) : qy, mz = qz < T(0) ? T(0) : qz;
-          T d = mx * mx;
-          d += my * my;
-          d += mz * mz;
-          T m = qx < qy ? qy : qx;
-          m = m < qz ? qz : m;
-          const T inside = T(0) < m ? T(0) : m;
-          r[i] = std::sqrt(d) + inside;
-          if (rounded) r[i] = r[i] - rr;
-        }
-        break;
-      }
-      case TapeOp::torus: {
-        T* __restrict r = v(++vt);
-        const T k0 = k(0), k1 = k(1);
-        for (int i = 0; i < n; ++i) {
-          T xz = px[i] * px[i];
-          xz += pz[i] * pz[i];
-          const T qx = std::sqrt(xz) - k0;
-          T d = qx * qx;
-          d += py[i] * py[i];
-          r[i] = std::sqrt(d) - k1;
-        }
-        break;
-      }
-      case TapeOp::min:
-      case TapeOp::max:
-      case TapeOp::subtract: {
-        combine_materials(in, s, v, vt - 1, n);
-        const T* __restrict b = v(vt--);
-        T* __restrict r = v(vt);
-        if (in.op == TapeOp::min) {
-          for (int i = 0; i < n; ++i) r[i] = b[i] < r[i] ? b[i] : r[i];
-        } else if (in.op == TapeOp::max) {
-          for (int i = 0; i < n; ++i) r[i] = r[i] < b[i] ? b[i] : r[i];
-        } else {
-          for (int i = 0; i < n; ++i) r[i] = r[i] < -b[i] ? -b[i] : r[i];
-        }
-        break;
-      }
-      case TapeOp::smooth_min:
-      case TapeOp::smooth_max:
-      case TapeOp::smooth_subtract: {
-        combine_materials(in, s, v, vt - 1, n);
-        const T* __restrict b = v(vt--);
-        T* __restrict r = v(vt);
-        const T kk = k(0);
-        // -smooth_min(-x, -b) and -smooth_min(-x, b), as the one-point code: sa and sb give the signs.
-        const T sa = in.op == TapeOp::smooth_min ? T(1) : T(-1);
-        const T sb = in.op == TapeOp::smooth_subtract ? T(1) : sa;
-        for (int i = 0; i < n; ++i) {
-          const T u = sa * r[i], w = sb * b[i];
-          const T e = kk - std::abs(u - w);
-          const T h = (e < T(0) ? T(0) : e) / kk;
-          r[i] = sa * ((w < u ? w : u) - h * h * kk * T(0.25));
-        }
-        break;
-      }
-      case TapeOp::round: {
-        T* __restrict r = v(vt);
-        const T k0 = k(0);
-        for (int i = 0; i < n; ++i) r[i] -= k0;
-        break;
-      }
-      case TapeOp::scale_value: {
-        T* __restrict r = v(vt);
-        const T k0 = k(0);
-        for (int i = 0; i < n; ++i) r[i] *= k0;
-        break;
-      }
+#define MARCHCHECK_BATCH(name, shape)                      \
+  case TapeOp::name:                                       \
+    shape<kernels::name<T>, T, WithMaterial>(k, in, l); \
+    break;
+      MARCHCHECK_TAPE_KERNELS(MARCHCHECK_BATCH)
+#undef MARCHCHECK_BATCH
       case TapeOp::set_material:
         if constexpr (WithMaterial)
-          for (int i = 0; i < n; ++i) s.m[vt][i] = in.material;
+          for (int i = 0; i < n; ++i) l.s.m[l.vt][i] = in.material;
         break;
-      case TapeOp::p_translate:
-      case TapeOp::p_scale: {
-        ++pt;
-        T* __restrict qx = s.x[pt];
-        T* __restrict qy = s.y[pt];
-        T* __restrict qz = s.z[pt];
-        if (in.op == TapeOp::p_translate) {
-          const T k0 = k(0), k1 = k(1), k2 = k(2);
-          for (int i = 0; i < n; ++i) {
-            qx[i] = px[i] - k0;
-            qy[i] = py[i] - k1;
-            qz[i] = pz[i] - k2;
-          }
-        } else {
-          const T k0 = k(0);
-          for (int i = 0; i < n; ++i) {
-            qx[i] = px[i] * k0;
-            qy[i] = py[i] * k0;
-            qz[i] = pz[i] * k0;
-          }
-        }
-        break;
-      }
-      case TapeOp::p_affine: {
-        ++pt;
-        T* __restrict qx = s.x[pt];
-        T* __restrict qy = s.y[pt];
-        T* __restrict qz = s.z[pt];
-        T m[12];
-        for (std::uint32_t j = 0; j < 12; ++j) m[j] = k(j);
-        for (int i = 0; i < n; ++i) {
-          qx[i] = px[i] * m[0] + py[i] * m[1] + pz[i] * m[2] + m[3];
-          qy[i] = px[i] * m[4] + py[i] * m[5] + pz[i] * m[6] + m[7];
-          qz[i] = px[i] * m[8] + py[i] * m[9] + pz[i] * m[10] + m[11];
-        }
-        break;
-      }
-      case TapeOp::p_pop: --pt; break;
-      default: step_lanes(tape, in, s, v, p, vt, pt, n); break;
+      case TapeOp::p_pop: --l.pt; break;
     }
   }
   if constexpr (WithMaterial)
-    for (int i = 0; i < n; ++i) material[i] = s.m[0][i];
+    for (int i = 0; i < n; ++i) material[i] = l.s.m[0][i];
 }
 
 }  // namespace

@@ -1,59 +1,19 @@
 // Batched evaluation gives the one-point tape's values bit for bit, on every built-in scene and on a tree that
 // runs every vectorised instruction, in float and double; the comparison catches a field that differs by one
 // rounding.
+#include "batch_compare.hpp"
+
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/node.hpp"
 #include "marchcheck/sdf/tape.hpp"
 
 #include <gtest/gtest.h>
 
-#include <bit>
-#include <cmath>
-#include <random>
-#include <vector>
 
 namespace marchcheck::sdf {
 namespace {
 
-// Points of the box the scenes live in, with a few batch lengths that leave partial vector registers.
-template <class T>
-std::vector<glm::vec<3, T>> points(int count) {
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(-4, 4);
-  std::vector<glm::vec<3, T>> v(static_cast<size_t>(count));
-  for (auto& p : v) p = glm::vec<3, T>(glm::dvec3(u(rng), u(rng) * 0.5 + 1, u(rng)));
-  return v;
-}
-
-bool same_bits(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
-bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
-
-// How many points evaluate_batch / sample_batch (batch_tape) and evaluate / sample (point_tape) disagree on
-// (values or materials; NaN equal to NaN only when the bits match), over batches of kBatch, 37 and 1 points.
-template <class T>
-int mismatches(const Tape& batch_tape, const Tape& point_tape) {
-  const auto pts = points<T>(kBatch + 37 + 1);
-  int bad = 0;
-  size_t at = 0;
-  for (int n : {kBatch, 37, 1}) {
-    T x[kBatch], y[kBatch], z[kBatch], f[kBatch];
-    for (int i = 0; i < n; ++i) {
-      x[i] = pts[at + static_cast<size_t>(i)].x;
-      y[i] = pts[at + static_cast<size_t>(i)].y;
-      z[i] = pts[at + static_cast<size_t>(i)].z;
-    }
-    int material[kBatch];
-    evaluate_batch(batch_tape, x, y, z, f, n);
-    for (int i = 0; i < n; ++i) bad += !same_bits(f[i], evaluate(point_tape, pts[at + static_cast<size_t>(i)]));
-    sample_batch(batch_tape, x, y, z, f, material, n);
-    for (int i = 0; i < n; ++i) {
-      const Sample<T> one = sample(point_tape, pts[at + static_cast<size_t>(i)]);
-      bad += !same_bits(f[i], one.distance) || material[i] != one.material;
-    }
-    at += static_cast<size_t>(n);
-  }
-  return bad;
-}
+using testing::mismatches;
 
 TEST(Batch, EveryBuiltinMatchesTheOnePointTapeBitForBit) {
   for (const std::string& name : builtin_scene_names()) {

@@ -148,6 +148,12 @@ TEST(Domain, RepetitionDeclaresWhetherTheShapeCrossesItsCell) {
   EXPECT_LE(lipschitz_of(inside_cell, {-3, -3, -3}, {3, 3, 3}), 1.0 + 1e-6);
   const Node crossing = make(Op::repeat, {{"period", {2, 2, 2}}}, {translate({0.8, 0, 0}, sphere(0.5))});
   EXPECT_EQ(derive_info(crossing).kind, Kind::lipschitz);
+  // Inside its cell but off centre, the copy in the next cell can be the nearer: at x = -0.95 the own copy
+  // (centred at 0.3) is 0.75 away, the neighbour's (centred at -1.7) 0.25, so f = 0.75 overestimates the
+  // distance. It was declared a bound.
+  const Node off_centre = make(Op::repeat, {{"period", {2, 2, 2}}}, {translate({0.3, 0, 0}, sphere(0.5))});
+  EXPECT_EQ(derive_info(off_centre).kind, Kind::lipschitz);
+  EXPECT_NEAR(sdf::evaluate(compile(off_centre), glm::dvec3(-0.95, 0, 0)), 0.75, 1e-12) << "the own copy's distance";
   // The field jumps at cell faces: finite differences across a face see a slope far above 1.
   EXPECT_GT(lipschitz_of(crossing, {-3, -3, -3}, {3, 3, 3}), 10.0);
   const Node limited = make(Op::repeat_limited, {{"period", {2, 0, 0}}, {"count", {2, 0, 0}}}, {sphere(0.5)});

@@ -93,10 +93,12 @@ struct OpInfo {
   std::string_view summary;
 };
 
+// Each operator's rules live in one row of its family's file (sdf/src/ops/), its kernels in one family header
+// (marchcheck/sdf/kernels/).
 const OpInfo& op_info(Op op);
 // nullptr when no operator has this name.
 const OpInfo* find_op(std::string_view name);
-std::span<const OpInfo> all_ops();
+std::vector<Op> all_ops();
 
 class MeshDistance;
 
@@ -169,6 +171,11 @@ GridLayout grid_layout(const Node& grid, const Box3& child_bounds);
 
 // time feeds the animated operators (animate, warp).
 FieldInfo derive_info(const Node& node, double time = 0.0);
+
+// A valid instance of the operator, for documentation and for tests that run every operator: its example
+// parameters, and children when it takes them (a box off the origin, then a sphere; circles for 2D children).
+// A mesh example comes loaded.
+Node example(Op op);
 
 // Checks shape (children counts and dimensions, parameter sizes and ranges); returns "" when valid,
 // otherwise a message naming the path (e.g. "/children/1/radius") and the problem.
