@@ -377,17 +377,49 @@ struct Tracer {
   }
 };
 
+// One tile's pixels through the stages the scene declares, each stage one pass over the tile (its rays in packets
+// through the batched tape where it can), timed and charged with its evaluations. The surfaces come from one of
+// two sources: the marcher, or the reference (a SurfaceOracle) for reference renders.
 template <class T>
-void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters& counters) {
+class TileRenderer {
+ public:
+  TileRenderer(const Context& ctx, int x0, int y0, RenderResult& out, Counters& counters)
+      : ctx_(ctx), s_(ctx.scene.march), effects_(ctx.scene.effects), pipe_(ctx.pipeline), out_(out),
+        counters_(counters), tracer_{ctx, counters}, x0_(x0), y0_(y0), x1_(std::min(x0 + kTile, out.color.width)),
+        y1_(std::min(y0 + kTile, out.color.height)), w_(x1_ - x0_), pixels_(w_ * (y1_ - y0_)),
+        per_pixel_cost_(!out.evals.pixels.empty() || !out.stage_evals.pixels.empty()),
+        lights_(ctx.scene.lights.size()) {
+    if (per_pixel_cost_) cost_.fill({});
+  }
+
+  void run() {
+    make_rays();
+    if (ctx_.meshes) intersect_meshes();
+    if (ctx_.oracle) {
+      reference_surfaces();
+    } else {
+      marched_surfaces();
+    }
+    if (pipe_.normals && !ctx_.oracle) normals();
+    if (pipe_.materials) materials();
+    if (pipe_.shadows) shadows();
+    if (pipe_.ao_samples) ambient_occlusion();
+    if (ctx_.shade == ShadePrecision::float64) {
+      shade(0.0);
+    } else {
+      shade(0.0f);
+    }
+    // Secondary rays run inside the shading loop and book their own time: take it out of shading's.
+    lap(kShade);
+    counters_.stages[kShade].seconds -= bounce_seconds_;
+  }
+
+ private:
   using V = Vec<T>;
-  const auto& s = ctx.scene.march;
-  const auto& effects = ctx.scene.effects;
-  const Pipeline& pipe = ctx.pipeline;
-  const TapeField field{&ctx.tape};
-  const int x1 = std::min(x0 + kTile, out.color.width), y1 = std::min(y0 + kTile, out.color.height);
   struct PixelState {
     V origin, direction;
     RayRecord<T> record;
+    V point{0};  // the surface point, origin + direction t, once the surface is known
     V normal{0};
     int material = -1;
     double ao = 1;
@@ -396,96 +428,118 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
     MeshHit mesh;
     std::uint64_t batched_evals = 0;  // spent by a packet pass, charged by the stage that follows it
   };
-  std::array<PixelState, kTile * kTile> px;
   // Beside the pixels rather than in them, so that the tile's state stays in the first-level cache: the
-  // evaluations per pixel (all stages, then each), kept only for the images that show them, and the visibility of
-  // each light, lights.size() entries per pixel.
+  // evaluations per pixel (all stages, then each), kept only for the images that show them.
   struct PixelCost {
     std::uint64_t evals;
     std::array<std::uint64_t, kStageCount> stages;
   };
-  std::array<PixelCost, kTile * kTile> cost;
-  const bool per_pixel_cost = !out.evals.pixels.empty() || !out.stage_evals.pixels.empty();
-  if (per_pixel_cost) cost.fill({});
-  const size_t lights = ctx.scene.lights.size();
-  double visibility_store[kTile * kTile * kMaxLights];
-  const int w = x1 - x0, tile_pixels = w * (y1 - y0);
-  auto each = [&](auto&& fn) {
-    for (int y = y0; y < y1; ++y)
-      for (int x = x0; x < x1; ++x) fn(px[static_cast<size_t>((y - y0) * w + (x - x0))], x, y);
-  };
+
+  template <class Fn>
+  void each(Fn&& fn) {
+    for (int y = y0_; y < y1_; ++y)
+      for (int x = x0_; x < x1_; ++x) fn(px_[static_cast<size_t>((y - y0_) * w_ + (x - x0_))], x, y);
+  }
   // Stage times as laps: each stage's end is the next one's start (one clock reading per pass, not two).
-  auto mark = Clock::now();
-  auto lap = [&](Stage which) {
+  void lap(Stage which) {
     const auto now = Clock::now();
-    counters.stages[which].seconds += std::chrono::duration<double>(now - mark).count();
-    mark = now;
-  };
+    counters_.stages[which].seconds += std::chrono::duration<double>(now - mark_).count();
+    mark_ = now;
+  }
   // Runs one stage over the tile, timing it and charging the evaluations it reports.
-  auto stage = [&](Stage which, auto&& fn) {
+  template <class Fn>
+  void stage(Stage which, Fn&& fn) {
     std::uint64_t evals = 0;
     each([&](PixelState& p, int x, int y) {
       const auto e = static_cast<std::uint64_t>(fn(p, x, y));
-      if (per_pixel_cost) {
-        auto& c = cost[static_cast<size_t>(&p - px.data())];
+      if (per_pixel_cost_) {
+        auto& c = cost_[static_cast<size_t>(index(p))];
         c.evals += e;
         c.stages[which] += e;
       }
       evals += e;
     });
-    counters.stages[which].evals += evals;
+    counters_.stages[which].evals += evals;
     lap(which);
-  };
-  // A pass over the whole tile at once (packets of rays through the batched tape), timed as part of its stage;
-  // it leaves each pixel's evaluations in batched_evals for the stage's per-pixel pass to charge.
-  auto packet_pass = [&](Stage which, auto&& fn) {
-    fn();
+  }
+  // A stage whose work is one pass over the whole tile (packets through the batched tape), which leaves each
+  // pixel's evaluations in batched_evals; the stage charges them pixel by pixel.
+  template <class Fn>
+  void packet_stage(Stage which, Fn&& pass) {
+    each([](PixelState& p, int, int) { p.batched_evals = 0; });
+    pass();
     lap(which);
-  };
-  auto index = [&](const PixelState& p) { return static_cast<int>(&p - px.data()); };
-  auto visibility = [&](const PixelState& p) { return visibility_store + static_cast<size_t>(index(p)) * lights; };
+    stage(which, [](PixelState& p, int, int) { return p.batched_evals; });
+  }
+  int index(const PixelState& p) const { return static_cast<int>(&p - px_.data()); }
+  double* visibility(const PixelState& p) { return visibility_ + static_cast<size_t>(index(p)) * lights_; }
+  bool surface(const PixelState& p) const { return p.hit || p.on_mesh; }
 
-  if (ctx.meshes)
-    stage(kMesh, [&](PixelState& p, int x, int y) {
-      const Ray ray = ctx.camera.ray(x + 0.5, y + 0.5);
-      p.origin = V(ray.origin);
-      p.direction = V(ray.direction);
-      p.mesh = ctx.meshes->intersect(ray.origin, ray.direction, s.max_dist);
+  // The camera's rays, for every pixel at once (bit for bit the ray of each pixel), charged to the march.
+  void make_rays() {
+    double xs[kTile * kTile], ys[kTile * kTile];
+    each([&](PixelState& p, int x, int y) {
+      xs[index(p)] = x + 0.5;
+      ys[index(p)] = y + 0.5;
+    });
+    ctx_.camera.rays(xs, ys, pixels_, rays_);
+    each([&](PixelState& p, int, int) {
+      p.origin = V(rays_[index(p)].origin);
+      p.direction = V(rays_[index(p)].direction);
+    });
+    lap(kMarch);
+  }
+
+  // Meshes are intersected along the camera's rays in double, before any rounding to T.
+  void intersect_meshes() {
+    stage(kMesh, [&](PixelState& p, int, int) {
+      const Ray& ray = rays_[index(p)];
+      p.mesh = ctx_.meshes->intersect(ray.origin, ray.direction, s_.max_dist);
       return 0;
     });
-  if (!ctx.oracle)
-    packet_pass(kMarch, [&] {
-      PacketRay<T> rays[kTile * kTile];
-      RayRecord<T> records[kTile * kTile];
-      if (!ctx.meshes) {  // else the mesh stage made the rays
-        double xs[kTile * kTile], ys[kTile * kTile];
-        Ray camera_rays[kTile * kTile];
-        each([&](PixelState& p, int x, int y) {
-          xs[index(p)] = x + 0.5;
-          ys[index(p)] = y + 0.5;
-        });
-        ctx.camera.rays(xs, ys, tile_pixels, camera_rays);
-        each([&](PixelState& p, int, int) {
-          p.origin = V(camera_rays[index(p)].origin);
-          p.direction = V(camera_rays[index(p)].direction);
-        });
-      }
-      each([&](PixelState& p, int, int) {
-        // The march stops at the mesh, as the seed's does at the depth buffer's distance.
-        rays[index(p)] = {p.origin, p.direction, p.mesh.hit ? p.mesh.t : s.max_dist};
-      });
-      march_packet(ctx.tape, rays, records, tile_pixels, s, ctx.march);
-      for (int i = 0; i < tile_pixels; ++i) px[static_cast<size_t>(i)].record = records[i];
+  }
+
+  // The nearest surface is a mesh's where the mesh is nearer than the field's, or the field has none.
+  void take_mesh(PixelState& p) {
+    p.record.t = static_cast<T>(p.mesh.t);
+    p.normal = V(p.mesh.normal);
+    p.material = p.mesh.material;
+  }
+  void surface_found(PixelState& p) {
+    p.point = p.origin + p.direction * p.record.t;
+    std::fill_n(visibility(p), lights_, 1.0);
+  }
+
+  // Surface source one: the marcher, every ray of the tile in one packet. The march stops at the mesh, as the
+  // seed's does at the depth buffer's distance.
+  void marched_surfaces() {
+    PacketRay<T> rays[kTile * kTile];
+    RayRecord<T> records[kTile * kTile];
+    each([&](PixelState& p, int, int) {
+      rays[index(p)] = {p.origin, p.direction, p.mesh.hit ? p.mesh.t : s_.max_dist};
     });
-  stage(kMarch, [&](PixelState& p, int x, int y) {
-    if (ctx.oracle) {
-      if (!ctx.meshes) {
-        const Ray ray = ctx.camera.ray(x + 0.5, y + 0.5);
-        p.origin = V(ray.origin);
-        p.direction = V(ray.direction);
+    march_packet(ctx_.tape, rays, records, pixels_, s_, ctx_.march);
+    for (int i = 0; i < pixels_; ++i) px_[static_cast<size_t>(i)].record = records[i];
+    lap(kMarch);
+    stage(kMarch, [&](PixelState& p, int, int) {
+      p.on_mesh = p.mesh.hit && p.record.outcome != Outcome::hit;
+      if (s_.miss_as_zero && p.record.outcome != Outcome::hit) {
+        // The seed's encoding: a miss is distance 0, which its consumer reads as a hit at the ray origin.
+        p.record.outcome = Outcome::hit;
+        p.record.t = 0;
       }
+      p.hit = p.record.outcome == Outcome::hit;
+      if (p.on_mesh) take_mesh(p);
+      surface_found(p);
+      return p.record.evals;
+    });
+  }
+
+  // Surface source two: the reference's first hit along each ray, with its exact normal.
+  void reference_surfaces() {
+    stage(kMarch, [&](PixelState& p, int, int) {
       const double len = glm::length(glm::dvec3(p.direction));
-      const auto hit = ctx.oracle->first_hit(glm::dvec3(p.origin), glm::dvec3(p.direction) / len, s.max_dist);
+      const auto hit = ctx_.oracle->first_hit(glm::dvec3(p.origin), glm::dvec3(p.direction) / len, s_.max_dist);
       p.record = {};
       p.record.outcome = hit ? Outcome::hit : Outcome::miss_far;
       p.record.t = hit ? static_cast<T>(hit->t / len) : T(0);
@@ -494,222 +548,235 @@ void render_tile(const Context& ctx, int x0, int y0, RenderResult& out, Counters
       if (p.mesh.hit && (!hit || p.mesh.t < hit->t / len)) {
         p.hit = false;
         p.on_mesh = true;
-        p.record.t = static_cast<T>(p.mesh.t);
-        p.normal = V(p.mesh.normal);
-        p.material = p.mesh.material;
+        take_mesh(p);
       }
-      std::fill_n(visibility(p), lights, 1.0);
+      surface_found(p);
       return 0;
+    });
+  }
+
+  void normals() {
+    if (s_.normal != NormalMethod::central) {  // the others stay one point at a time
+      const TapeField field{&ctx_.tape};
+      stage(kNormal, [&](PixelState& p, int, int) {
+        if (!p.hit) return 0;
+        const auto n = estimate_normal(field, p.point, s_.normal, normal_epsilon(s_, p.record.t));
+        p.normal = n.n;
+        return n.evals;
+      });
+      return;
     }
-    p.on_mesh = p.mesh.hit && p.record.outcome != Outcome::hit;
-    if (s.miss_as_zero && p.record.outcome != Outcome::hit) {
-      // The seed's encoding: a miss is distance 0, which its consumer reads as a hit at the ray origin.
-      p.record.outcome = Outcome::hit;
-      p.record.t = 0;
-    }
-    p.hit = p.record.outcome == Outcome::hit;
-    if (p.on_mesh) {
-      p.record.t = static_cast<T>(p.mesh.t);
-      p.normal = V(p.mesh.normal);
-      p.material = p.mesh.material;
-    }
-    std::fill_n(visibility(p), lights, 1.0);
-    return p.record.evals;
-  });
-  const bool batched_normals = s.normal == NormalMethod::central;  // the others stay one point at a time
-  if (pipe.normals && !ctx.oracle && batched_normals) {
-    packet_pass(kNormal, [&] {
+    packet_stage(kNormal, [&] {
       V points[kTile * kTile];
       T eps[kTile * kTile];
       int which[kTile * kTile];
       NormalResult<T> normals[kTile * kTile];
       int count = 0;
       each([&](PixelState& p, int, int) {
-        p.batched_evals = 0;
         if (!p.hit) return;
-        points[count] = V(p.origin + p.direction * p.record.t);
-        eps[count] = normal_epsilon(s, p.record.t);
+        points[count] = p.point;
+        eps[count] = normal_epsilon(s_, p.record.t);
         which[count++] = index(p);
       });
-      central_normals_packet(ctx.tape, points, eps, normals, count);
+      central_normals_packet(ctx_.tape, points, eps, normals, count);
       for (int i = 0; i < count; ++i) {
-        auto& p = px[static_cast<size_t>(which[i])];
+        auto& p = px_[static_cast<size_t>(which[i])];
         p.normal = normals[i].n;
         p.batched_evals = static_cast<std::uint64_t>(normals[i].evals);
       }
     });
-    stage(kNormal, [&](PixelState& p, int, int) { return p.batched_evals; });
-  } else if (pipe.normals && !ctx.oracle) {
-    stage(kNormal, [&](PixelState& p, int, int) {
-      if (!p.hit) return 0;
-      const auto n = estimate_normal(field, V(p.origin + p.direction * p.record.t), s.normal, normal_epsilon(s, p.record.t));
-      p.normal = n.n;
-      return n.evals;
-    });
   }
-  if (pipe.materials) {
-    packet_pass(kMaterial, [&] {
+
+  void materials() {
+    packet_stage(kMaterial, [&] {
       alignas(64) T xs[kTile * kTile], ys[kTile * kTile], zs[kTile * kTile], values[kTile * kTile];
       int materials[kTile * kTile], which[kTile * kTile];
       int count = 0;
       each([&](PixelState& p, int, int) {
-        p.batched_evals = 0;
         if (!p.hit) return;
-        const V at = p.origin + p.direction * p.record.t;
-        xs[count] = at.x;
-        ys[count] = at.y;
-        zs[count] = at.z;
+        xs[count] = p.point.x;
+        ys[count] = p.point.y;
+        zs[count] = p.point.z;
         which[count++] = index(p);
       });
       for (int b = 0; b < count; b += sdf::kBatch)
-        sdf::sample_batch(ctx.tape, xs + b, ys + b, zs + b, values + b, materials + b, std::min(sdf::kBatch, count - b));
+        sdf::sample_batch(ctx_.tape, xs + b, ys + b, zs + b, values + b, materials + b, std::min(sdf::kBatch, count - b));
       for (int i = 0; i < count; ++i) {
-        auto& p = px[static_cast<size_t>(which[i])];
+        auto& p = px_[static_cast<size_t>(which[i])];
         p.material = materials[i];
         p.batched_evals = 1;
       }
     });
-    stage(kMaterial, [&](PixelState& p, int, int) { return p.batched_evals; });
   }
-  Tracer<T> tracer{ctx, counters};
-  bool batched_shadows = !ctx.oracle;  // hard shadows march in packets; soft ones one ray at a time
-  for (const auto& light : ctx.scene.lights) batched_shadows = batched_shadows && light.shadow != sdf::ShadowMode::soft;
-  if (pipe.shadows && batched_shadows) {
-    packet_pass(kShadow, [&] {
+
+  // Hard shadows march in packets, one per light; soft ones (and the reference's) one ray at a time.
+  void shadows() {
+    bool batched = !ctx_.oracle;
+    for (const auto& light : ctx_.scene.lights) batched = batched && light.shadow != sdf::ShadowMode::soft;
+    if (!batched) {
+      stage(kShadow, [&](PixelState& p, int, int) {
+        if (!surface(p)) return std::uint64_t{0};
+        return tracer_.shadows(p.point, p.normal, p.record.t, visibility(p));
+      });
+      return;
+    }
+    packet_stage(kShadow, [&] {
       PacketRay<T> rays[kTile * kTile];
       ShadowStart<T> starts[kTile * kTile];
       RayRecord<T> records[kTile * kTile];
       int which[kTile * kTile];
-      each([&](PixelState& p, int, int) { p.batched_evals = 0; });
-      for (size_t li = 0; li < ctx.scene.lights.size(); ++li) {
-        const auto& light = ctx.scene.lights[li];
+      for (size_t li = 0; li < lights_; ++li) {
+        const auto& light = ctx_.scene.lights[li];
         if (light.shadow == sdf::ShadowMode::none) continue;
         int count = 0;
         each([&](PixelState& p, int, int) {
-          if (!p.hit && !p.on_mesh) return;
-          const V at = p.origin + p.direction * p.record.t;
-          const auto [to_light, dist] = toward_light(light, ctx.light_positions[li], at);
-          starts[count] = shadow_start(at, p.normal, dist, p.record.t, light, s, ctx.march);
+          if (!surface(p)) return;
+          const auto [to_light, dist] = toward_light(light, ctx_.light_positions[li], p.point);
+          starts[count] = shadow_start(p.point, p.normal, dist, p.record.t, light, s_, ctx_.march);
           rays[count] = {starts[count].origin, to_light, starts[count].max_dist};
           which[count++] = index(p);
         });
-        march_packet(ctx.tape, rays, records, count, s, ctx.march);
+        march_packet(ctx_.tape, rays, records, count, s_, ctx_.march);
         for (int i = 0; i < count; ++i) {
-          auto& p = px[static_cast<size_t>(which[i])];
+          auto& p = px_[static_cast<size_t>(which[i])];
           visibility(p)[li] = hard_visibility(records[i], starts[i], light);
           p.batched_evals += static_cast<std::uint64_t>(records[i].evals);
         }
       }
     });
-    stage(kShadow, [&](PixelState& p, int, int) { return p.batched_evals; });
-  } else if (pipe.shadows) {
-    stage(kShadow, [&](PixelState& p, int, int) {
-      if (!p.hit && !p.on_mesh) return std::uint64_t{0};
-      return tracer.shadows(p.origin + p.direction * p.record.t, p.normal, p.record.t, visibility(p));
-    });
   }
-  if (pipe.ao_samples)
+
+  void ambient_occlusion() {
+    const TapeField field{&ctx_.tape};
     stage(kAo, [&](PixelState& p, int, int) {
       if (!p.hit) return 0;
-      const V at = p.origin + p.direction * p.record.t;
       double occlusion = 0, weights = 0, weight = 1;
-      for (int i = 1; i <= effects.ao_samples; ++i) {
-        const T h = T(effects.ao_distance * i / effects.ao_samples);
-        const double d = static_cast<double>(field(at + p.normal * h));
+      for (int i = 1; i <= effects_.ao_samples; ++i) {
+        const T h = T(effects_.ao_distance * i / effects_.ao_samples);
+        const double d = static_cast<double>(field(p.point + p.normal * h));
         occlusion += weight * std::clamp((static_cast<double>(h) - d) / static_cast<double>(h), 0.0, 1.0);
         weights += weight;
         weight *= 0.85;
       }
       p.ao = 1 - occlusion / weights;
-      return effects.ao_samples;
+      return effects_.ao_samples;
     });
+  }
 
-  double bounce_seconds = 0;
-  // The tile's colours in arithmetic S (the type of `zero`): its surface pixels lit together, then each pixel
-  // finished and written. Secondary rays shade in double.
-  // Kept out of render_tile (noinline): inlined, it made GCC compile the marching stages above 10% slower.
-  auto shade = [&](auto zero) __attribute__((noinline)) {
-    using S = decltype(zero);
+  // Shading and secondary rays work in double from the ray: the surface point as double computes it.
+  static glm::dvec3 point_in_double(const PixelState& p) {
+    return glm::dvec3(p.origin) + glm::dvec3(p.direction) * static_cast<double>(p.record.t);
+  }
+
+  // The tile's colours in arithmetic S (the type of `zero`): its surface pixels lit together in chunks of 64 (so
+  // that the lit points stay beside the tile's state in the first-level cache), then each pixel finished.
+  // Kept out of line: inlined, it made GCC compile the marching stages above 10% slower.
+  template <class S>
+  __attribute__((noinline)) void shade(S) {
     using VS = glm::vec<3, S>;
-    // One pixel's colour from its lit point (lit_at, or -1), finished and written with its images.
-    auto finish = [&](PixelState& p, int x, int y, const auto& lit, int lit_at) {
-      VS color(effects.background);
-      if (p.hit || p.on_mesh) {
-        color = lit_at >= 0 ? VS(lit.r[lit_at], lit.g[lit_at], lit.b[lit_at]) : VS(0);
-        if (effects.ao == sdf::AmbientOcclusion::steps && !ctx.oracle)
-          color -= VS(S(static_cast<double>(p.record.steps) * p.record.steps * effects.ao_steps_scale));
-        if (pipe.reflection || pipe.refraction) {
-          const auto bounce_start = Clock::now();
-          const std::uint64_t reflection = counters.stages[kReflection].evals;
-          const std::uint64_t refraction = counters.stages[kRefraction].evals;
-          const glm::dvec3 at = glm::dvec3(p.origin) + glm::dvec3(p.direction) * static_cast<double>(p.record.t);
-          color = VS(tracer.bounce(glm::dvec3(color), V(at), p.normal, p.direction, p.material, 0, p.record.t));
-          if (per_pixel_cost) {
-            auto& c = cost[static_cast<size_t>(index(p))];
-            c.stages[kReflection] += counters.stages[kReflection].evals - reflection;
-            c.stages[kRefraction] += counters.stages[kRefraction].evals - refraction;
-            c.evals += c.stages[kReflection] + c.stages[kRefraction];
-          }
-          bounce_seconds += since(bounce_start);
-        }
-        color = glm::max(color, VS(0));
-        if (effects.fog > 0) color = glm::mix(VS(effects.fog_color), color, S(std::exp(-effects.fog * static_cast<double>(p.record.t))));
-      } else if (effects.glow > 0 && !ctx.oracle) {
-        const S g = std::clamp(S(1) - static_cast<S>(p.record.min_abs_f) / S(effects.glow_width), S(0), S(1));
-        color += VS(effects.glow_color) * (S(effects.glow) * g * g);
-      }
-      float* c = out.color.at(x, y);
-      for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(color[i]);
-      counters.steps_max = std::max(counters.steps_max, p.record.steps);
-      // Images not kept are empty (render's `images`).
-      if (!out.depth.pixels.empty()) *out.depth.at(x, y) = p.hit || p.on_mesh ? static_cast<float>(p.record.t) : INFINITY;
-      if (!out.normal.pixels.empty()) {
-        float* n = out.normal.at(x, y);
-        for (int i = 0; i < 3; ++i) n[i] = static_cast<float>(p.normal[i]);
-      }
-      if (!out.steps.pixels.empty()) *out.steps.at(x, y) = static_cast<float>(p.record.steps);
-      const PixelCost& pc = cost[static_cast<size_t>(index(p))];
-      if (!out.evals.pixels.empty()) *out.evals.at(x, y) = static_cast<float>(pc.evals);
-      if (!out.stage_evals.pixels.empty())
-        for (int i = 0; i < kStageCount; ++i)
-          out.stage_evals.at(x, y)[i] = static_cast<float>(pc.stages[static_cast<size_t>(i)]);
-      if (!out.id.pixels.empty()) *out.id.at(x, y) = static_cast<float>(p.material);
-      if (!out.outcome.pixels.empty()) *out.outcome.at(x, y) = static_cast<float>(p.record.outcome);
-    };
-    // In chunks of 64 pixels, so that the lit points stay beside the tile's state in the first-level cache.
     constexpr int kChunk = 64;
     LitPoints<S, kChunk> lit;
     int lit_index[kChunk];
-    const bool lighting = !(ctx.scene.lights.empty() && !pipe.materials);
-    for (int first = 0; first < tile_pixels; first += kChunk) {
-      const int last = std::min(first + kChunk, tile_pixels);
+    const bool lighting = !(ctx_.scene.lights.empty() && !pipe_.materials);
+    for (int first = 0; first < pixels_; first += kChunk) {
+      const int last = std::min(first + kChunk, pixels_);
       lit.n = 0;
       for (int k = first; k < last; ++k) {
-        PixelState& p = px[static_cast<size_t>(k)];
+        PixelState& p = px_[static_cast<size_t>(k)];
         lit_index[k - first] = -1;
-        if (!(p.hit || p.on_mesh) || !lighting) continue;
-        const glm::dvec3 at = glm::dvec3(p.origin) + glm::dvec3(p.direction) * static_cast<double>(p.record.t);
+        if (!surface(p) || !lighting) continue;
+        const glm::dvec3 at = point_in_double(p);
         const VS n(p.normal);
-        const VS eye = effects.eye_is_ray_direction && !ctx.oracle ? VS(p.direction) : VS(p.origin);
+        const VS eye = effects_.eye_is_ray_direction && !ctx_.oracle ? VS(p.direction) : VS(p.origin);
         const VS albedo =
-            pipe.materials || p.on_mesh ? VS(material_color(ctx, p.material, at, glm::dvec3(n))) : VS(S(0.8));
+            pipe_.materials || p.on_mesh ? VS(material_color(ctx_, p.material, at, glm::dvec3(n))) : VS(S(0.8));
         lit_index[k - first] = lit.n;
         lit.add(VS(at), n, eye, albedo, S(p.ao), p.material, visibility(p));
       }
-      direct_light(ctx, lit);
-      for (int k = first; k < last; ++k)
-        finish(px[static_cast<size_t>(k)], x0 + k % w, y0 + k / w, lit, lit_index[k - first]);
+      direct_light(ctx_, lit);
+      for (int k = first; k < last; ++k) {
+        PixelState& p = px_[static_cast<size_t>(k)];
+        const int at = lit_index[k - first];
+        const VS color = finish(p, at >= 0 ? VS(lit.r[at], lit.g[at], lit.b[at]) : VS(0));
+        write(p, x0_ + k % w_, y0_ + k / w_, glm::dvec3(color));
+      }
     }
-  };
-  if (ctx.shade == ShadePrecision::float64) {
-    shade(0.0);
-  } else {
-    shade(0.0f);
   }
-  // Secondary rays run inside the shading loop and book their own time: take it out of shading's.
-  lap(kShade);
-  counters.stages[kShade].seconds -= bounce_seconds;
-}
+
+  // One pixel's colour from its direct light: step-count occlusion, secondary rays, fog; glow on misses.
+  template <class VS>
+  VS finish(PixelState& p, VS color) {
+    using S = typename VS::value_type;
+    if (!surface(p)) {
+      color = VS(effects_.background);
+      if (effects_.glow > 0 && !ctx_.oracle) {
+        const S g = std::clamp(S(1) - static_cast<S>(p.record.min_abs_f) / S(effects_.glow_width), S(0), S(1));
+        color += VS(effects_.glow_color) * (S(effects_.glow) * g * g);
+      }
+      return color;
+    }
+    if (effects_.ao == sdf::AmbientOcclusion::steps && !ctx_.oracle)
+      color -= VS(S(static_cast<double>(p.record.steps) * p.record.steps * effects_.ao_steps_scale));
+    if (pipe_.reflection || pipe_.refraction) color = VS(bounce(p, glm::dvec3(color)));
+    color = glm::max(color, VS(0));
+    if (effects_.fog > 0)
+      color = glm::mix(VS(effects_.fog_color), color, S(std::exp(-effects_.fog * static_cast<double>(p.record.t))));
+    return color;
+  }
+
+  // Mirror and refraction rays from the pixel's surface, timed apart from shading and charged to the pixel.
+  glm::dvec3 bounce(const PixelState& p, glm::dvec3 local) {
+    const auto start = Clock::now();
+    const std::uint64_t reflection = counters_.stages[kReflection].evals;
+    const std::uint64_t refraction = counters_.stages[kRefraction].evals;
+    const glm::dvec3 color =
+        tracer_.bounce(local, V(point_in_double(p)), p.normal, p.direction, p.material, 0, p.record.t);
+    if (per_pixel_cost_) {
+      auto& c = cost_[static_cast<size_t>(index(p))];
+      c.stages[kReflection] += counters_.stages[kReflection].evals - reflection;
+      c.stages[kRefraction] += counters_.stages[kRefraction].evals - refraction;
+      c.evals += c.stages[kReflection] + c.stages[kRefraction];
+    }
+    bounce_seconds_ += since(start);
+    return color;
+  }
+
+  // The pixel's colour and the images kept (the others are empty: render's `images`).
+  void write(const PixelState& p, int x, int y, glm::dvec3 color) {
+    float* c = out_.color.at(x, y);
+    for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(color[i]);
+    counters_.steps_max = std::max(counters_.steps_max, p.record.steps);
+    if (!out_.depth.pixels.empty()) *out_.depth.at(x, y) = surface(p) ? static_cast<float>(p.record.t) : INFINITY;
+    if (!out_.normal.pixels.empty()) {
+      float* n = out_.normal.at(x, y);
+      for (int i = 0; i < 3; ++i) n[i] = static_cast<float>(p.normal[i]);
+    }
+    if (!out_.steps.pixels.empty()) *out_.steps.at(x, y) = static_cast<float>(p.record.steps);
+    const PixelCost& pc = cost_[static_cast<size_t>(index(p))];
+    if (!out_.evals.pixels.empty()) *out_.evals.at(x, y) = static_cast<float>(pc.evals);
+    if (!out_.stage_evals.pixels.empty())
+      for (int i = 0; i < kStageCount; ++i) out_.stage_evals.at(x, y)[i] = static_cast<float>(pc.stages[static_cast<size_t>(i)]);
+    if (!out_.id.pixels.empty()) *out_.id.at(x, y) = static_cast<float>(p.material);
+    if (!out_.outcome.pixels.empty()) *out_.outcome.at(x, y) = static_cast<float>(p.record.outcome);
+  }
+
+  const Context& ctx_;
+  const MarchSettings& s_;
+  const sdf::Effects& effects_;
+  const Pipeline& pipe_;
+  RenderResult& out_;
+  Counters& counters_;
+  Tracer<T> tracer_;
+  const int x0_, y0_, x1_, y1_, w_, pixels_;
+  const bool per_pixel_cost_;
+  const size_t lights_;
+  std::array<PixelState, kTile * kTile> px_;
+  Ray rays_[kTile * kTile];
+  std::array<PixelCost, kTile * kTile> cost_;
+  double visibility_[kTile * kTile * kMaxLights];  // lights_ entries per pixel
+  Clock::time_point mark_ = Clock::now();
+  double bounce_seconds_ = 0;
+};
 
 }  // namespace
 
@@ -742,9 +809,9 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const
   tbb::parallel_for(0, tiles_x * tiles_y, [&](int tile) {
     const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
     if (scene.march.precision == sdf::Precision::float64) {
-      render_tile<double>(ctx, x0, y0, out, counters.local());
+      TileRenderer<double>(ctx, x0, y0, out, counters.local()).run();
     } else {
-      render_tile<float>(ctx, x0, y0, out, counters.local());
+      TileRenderer<float>(ctx, x0, y0, out, counters.local()).run();
     }
   });
   for (int i = 0; i < kStageCount; ++i) out.stages[kStageNames[i]] = {};
