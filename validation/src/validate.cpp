@@ -138,216 +138,295 @@ struct Offenders {
   }
 };
 
-void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOptions& opt,
-             std::map<std::string, double>& m, std::map<std::string, std::string>& offender_text) {
-  const sdf::Node& intended = scene.intended ? *scene.intended : scene.root;
-  const Reference ref(intended, scene.time);
-  const march::Camera camera(scene.camera, scene.width, scene.height);
-  const march::MarchContext ctx = march::march_context(camera, subject.declared.lipschitz);
-  const bool exact_outside = subject.exact_outside;
+// What the judges of one scene share: the subject, the reference (the scene's intended tree, else its root),
+// the camera and its march context, and the first offender of each metric.
+struct Judging {
+  const sdf::Scene& scene;
+  const Subject& subject;
+  const Reference ref;
+  const march::Camera camera;
+  const march::MarchContext ctx;
   // An estimate promises no distance, so its hits are judged by what the image can show: the set within the
   // pixel's footprint.
-  const bool estimate = subject.declared.kind == sdf::Kind::estimate;
-  const double max_dist = std::isfinite(scene.march.max_dist) ? scene.march.max_dist : 1e6;
-  const double declared = subject.declared.lipschitz;
-  const auto field = [&subject](dvec3 p) { return subject.field(p); };
+  const bool estimate;
+  const double max_dist;
+  const double declared;  // the Lipschitz constant the field declares
   Offenders offenders;
 
-  int rays = 0, false_hit = 0, false_miss = 0, overshoot = 0, undecided = 0, ambiguous = 0, over_steps = 0;
-  int shadow_samples = 0, false_shadow = 0, false_lit = 0;
-  double ray_norm_err = 0, surface_over_eps = 0, surface_dist_max = 0, evals = 0, normal_length_err = 0;
-  bool judged_normals = static_cast<bool>(subject.normal);  // else: when the marcher gives a normal
-  std::vector<double> t_err, angle, edge_angle;  // normal errors away from edges and at sharp edges
-  std::vector<std::pair<dvec3, double>> surface_points;  // reference hits and their distance, for the SDF checks
+  Judging(const sdf::Scene& s, const Subject& subj)
+      : scene(s), subject(subj), ref(s.intended ? *s.intended : s.root, s.time), camera(s.camera, s.width, s.height),
+        ctx(march::march_context(camera, subj.declared.lipschitz)), estimate(subj.declared.kind == sdf::Kind::estimate),
+        max_dist(std::isfinite(s.march.max_dist) ? s.march.max_dist : 1e6), declared(subj.declared.lipschitz) {}
 
-  for (int j = 0; j < opt.rays_y; ++j)
-    for (int i = 0; i < opt.rays_x; ++i) {
-      const double px = (i + 0.5) * scene.width / opt.rays_x, py = (j + 0.5) * scene.height / opt.rays_y;
-      const march::Ray ray = camera.ray(px, py);
-      const double len = glm::length(ray.direction);
-      ray_norm_err = std::max(ray_norm_err, std::abs(len - 1));
-      const dvec3 dn = ray.direction / len;
-      const MarchedRay rec = subject.march(ray.origin, ray.direction);
-      evals += rec.evals;
-      ++rays;
-      const ReferenceHit rh = ref.first_hit(ray.origin, dn, max_dist);
-      const auto text = [&] { return ray_text(px, py, ray, rec, rh); };
-      if (rec.evals > scene.march.max_steps) {
-        ++over_steps;
-        offenders.first("march.over_max_steps", text);
+  double hit_threshold(double t) const { return static_cast<double>(march::hit_threshold<double>(scene.march, ctx, t)); }
+};
+
+// One primary ray: what the subject marched and what the reference found along it.
+struct SampledRay {
+  double px, py;
+  march::Ray ray;
+  double len;  // of the ray's direction (the marcher's t is in its units)
+  dvec3 dn;    // the unit direction
+  MarchedRay rec;
+  ReferenceHit rh;
+  std::string text() const { return ray_text(px, py, ray, rec, rh); }
+};
+
+SampledRay sample_ray(const Judging& j, double px, double py) {
+  SampledRay r{px, py, j.camera.ray(px, py), 0, {}, {}, {}};
+  r.len = glm::length(r.ray.direction);
+  r.dn = r.ray.direction / r.len;
+  r.rec = j.subject.march(r.ray.origin, r.ray.direction);
+  r.rh = j.ref.first_hit(r.ray.origin, r.dn, j.max_dist);
+  return r;
+}
+
+// Two unit vectors across the direction d.
+std::pair<dvec3, dvec3> across(dvec3 d) {
+  const dvec3 side = glm::normalize(glm::cross(d, std::abs(d.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0)));
+  return {side, glm::cross(side, d)};
+}
+
+// A marched hit on the surface the reference hits, close enough to compare its t, normal and shadows.
+struct AgreedHit {
+  dvec3 p_m;                 // the marched hit point
+  std::optional<dvec3> n_m;  // its normal, when the subject gives one
+  double t_m;                // its distance along the unit ray
+  double eps_m;              // the hit threshold there
+  bool at_edge;              // the reference surface turns sharply at this pixel
+};
+
+// Normal errors at agreed hits, away from edges and at sharp edges, and normals' lengths at every hit.
+struct NormalJudge {
+  bool judged;  // the subject gives normals (its own estimator, or the marcher's)
+  std::vector<double> angle, edge_angle;
+  double length_err = 0;
+
+  explicit NormalJudge(bool estimator) : judged(estimator) {}
+
+  void length(Offenders& offenders, const SampledRay& r, dvec3 n) {
+    judged = true;
+    const double err = std::abs(glm::length(n) - 1);
+    length_err = std::max(length_err, err);
+    offenders.largest("normal.length_err_max", err, [&] { return r.text() + "; normal " + vec_text(n); });
+  }
+  void angle_to_reference(Offenders& offenders, const SampledRay& r, dvec3 n, bool at_edge) {
+    const double a = std::acos(std::clamp(glm::dot(n, r.rh.normal), -1.0, 1.0)) * 180 / std::numbers::pi;
+    (at_edge ? edge_angle : angle).push_back(a);
+    offenders.largest(at_edge ? "normal.edge_angle_p99_deg" : "normal.angle_p99_deg", a, [&] {
+      return r.text() + "; normal " + vec_text(n) + ", reference normal " + vec_text(r.rh.normal);
+    });
+  }
+  void report(std::map<std::string, double>& m) const {
+    if (judged) {
+      m["normal.angle_max_deg"] = angle.empty() ? 0 : *std::max_element(angle.begin(), angle.end());
+      m["normal.angle_p99_deg"] = percentile(angle, 0.99);
+      double mean = 0;
+      for (double a : angle) mean += a / static_cast<double>(angle.size());
+      m["normal.angle_mean_deg"] = mean;
+      m["normal.length_err_max"] = length_err;
+    }
+    if (!edge_angle.empty()) {
+      m["normal.edge_samples"] = static_cast<double>(edge_angle.size());
+      m["normal.edge_angle_max_deg"] = *std::max_element(edge_angle.begin(), edge_angle.end());
+      m["normal.edge_angle_p99_deg"] = percentile(edge_angle, 0.99);
+    }
+  }
+};
+
+// Each primary ray's outcome against the reference: false hits and misses, steps through the surface, rays
+// undecided or over the step limit, and how far agreed hits lie from the surface.
+struct HitJudge {
+  int rays = 0, false_hit = 0, false_miss = 0, overshoot = 0, undecided = 0, ambiguous = 0, over_steps = 0;
+  double ray_norm_err = 0, surface_over_eps = 0, surface_dist_max = 0, evals = 0;
+  std::vector<double> t_err;
+
+  // The ray's verdict; an agreed hit when the marched one can be compared with the reference's.
+  std::optional<AgreedHit> judge(Judging& j, const SampledRay& r, NormalJudge& normals) {
+    ray_norm_err = std::max(ray_norm_err, std::abs(r.len - 1));
+    evals += r.rec.evals;
+    ++rays;
+    const auto text = [&] { return r.text(); };
+    if (r.rec.evals > j.scene.march.max_steps) {
+      ++over_steps;
+      j.offenders.first("march.over_max_steps", text);
+    }
+    if (r.rh.inside || r.rh.unknown) return std::nullopt;
+    bool at_edge = false;
+    const double band = grazing_band(j, r);
+    if (grazing(j, r, band, at_edge)) {
+      ++ambiguous;
+      return std::nullopt;
+    }
+    if (r.rec.outcome == Outcome::miss_steps) {
+      ++undecided;
+      j.offenders.first("hit.undecided", text);
+    }
+    if (r.rec.outcome == Outcome::hit) return judge_hit(j, r, normals, band, at_edge);
+    if (r.rec.outcome == Outcome::miss_far && r.rh.hit && r.rh.t < j.max_dist * 0.999) {
+      ++false_miss;
+      j.offenders.first("hit.false_miss", text);
+    }
+    return std::nullopt;
+  }
+
+  // Rays whose neighbours a hit threshold away disagree with them are left out.
+  static double grazing_band(const Judging& j, const SampledRay& r) {
+    const double t_scale = r.rh.hit ? r.rh.t : std::min(j.max_dist, 10.0);
+    return 2 * j.hit_threshold(t_scale) + 1e-7 * (1 + t_scale);
+  }
+  static bool grazing(const Judging& j, const SampledRay& r, double band, bool& at_edge) {
+    const auto [side, up] = across(r.dn);
+    bool grazing = false;
+    for (const dvec3 offset : {side, -side, up, -up}) {
+      const ReferenceHit neighbour = j.ref.first_hit(r.ray.origin + offset * band, r.dn, j.max_dist);
+      grazing = grazing || neighbour.hit != r.rh.hit;
+      // A neighbour's surface turning by more than 10 degrees: a sharp edge or crease at this pixel.
+      at_edge = at_edge || (neighbour.hit && r.rh.hit && glm::dot(neighbour.normal, r.rh.normal) < 0.985);
+    }
+    return grazing;
+  }
+
+  std::optional<AgreedHit> judge_hit(Judging& j, const SampledRay& r, NormalJudge& normals, double band,
+                                     bool at_edge) {
+    const auto text = [&] { return r.text(); };
+    const ReferenceHit& rh = r.rh;
+    const double t_m = r.rec.t * r.len;
+    const double eps_m = j.hit_threshold(r.rec.t);
+    const dvec3 p_m = r.ray.origin + r.ray.direction * r.rec.t;
+    const std::optional<dvec3> n_m = j.subject.normal ? j.subject.normal(p_m, r.rec.t) : r.rec.normal;
+    if (n_m) normals.length(j.offenders, r, *n_m);
+    // An upper bound on the hit point's distance to the true surface: the ray's own, then the probes
+    // (the reference normal's reverse and the marched one's: exact where the surface is flat).
+    NearestSurface near{rh.hit ? std::abs(rh.t - t_m) : INFINITY, t_m < rh.t ? r.dn : -r.dn};
+    probe_nearest(j.ref, p_m, {rh.hit ? -rh.normal : dvec3(0), n_m ? -*n_m : dvec3(0)}, near);
+    double upper = near.distance;
+    // Float rounding of the hit point itself is allowed on top of the threshold.
+    const double rounding = 4 * j.subject.unit_roundoff * (glm::length(r.ray.origin) + t_m);
+    const double allowed = eps_m * r.len + rounding + j.ref.t_error_bound();
+    // Within the solid but no farther past the first surface than the hit point's float rounding: rounded
+    // across the surface (t's own ulp at t = 100 is 8e-6), not a step through it.
+    const bool just_past = near.inside && rh.hit && std::abs(t_m - rh.t) <= rounding + j.ref.t_error_bound();
+    if (near.inside && !just_past) upper = 0;  // deeper in the solid: the surface distance is unknown, the hit is wrong
+    if ((near.inside && !just_past) || (rh.hit && t_m > rh.t + band && upper > allowed)) {
+      ++overshoot;  // the march went through the first surface
+      j.offenders.first("hit.overshoot", text);
+      return std::nullopt;
+    }
+    const double footprint = j.ctx.footprint_at_0 + j.ctx.footprint_slope * r.rec.t;
+    if (upper > std::max(2 * allowed + band, j.estimate ? footprint : 0.0) && !in_shell(j, p_m, near.toward, upper, eps_m)) {
+      ++false_hit;  // nothing the reference knows is near the marched hit
+      j.offenders.first("hit.false_hit", text);
+      return std::nullopt;
+    }
+    surface_dist_max = std::max(surface_dist_max, upper);
+    // Only a field exact outside its solid promises hits within the threshold: a bound may stop farther.
+    if (j.subject.exact_outside) {
+      surface_over_eps = std::max(surface_over_eps, upper / (allowed + 1e-300));
+      j.offenders.largest("hit.surface_dist_over_eps", upper / (allowed + 1e-300), text);
+    }
+    // A legitimate near-hit on a surface the ray itself passes by: nothing to compare t or the normal with.
+    // The ray's own gap to the reference hit beyond 10x the nearest surface's distance means it meets the
+    // surface there at more than 84 degrees from its normal, or not at this point at all.
+    if (!rh.hit || std::abs(rh.t - t_m) > 10 * (upper + allowed) + band) return std::nullopt;
+    t_err.push_back(std::abs(t_m - rh.t));
+    return AgreedHit{p_m, n_m, t_m, eps_m, at_edge};
+  }
+
+  // A bound may be below the threshold farther from the surface than the threshold (where its gradient is
+  // small): such a hit is honest when |f| stays below the threshold on the straight way to the nearest surface
+  // point (a field whose own solid covers the gap is negative there: a wrong surface, still caught). Samples
+  // eps / L apart, all below eps: |f| < 1.5 eps on the whole way.
+  static bool in_shell(const Judging& j, dvec3 p_m, dvec3 toward, double upper, double eps_m) {
+    if (j.subject.exact_outside || !std::isfinite(upper)) return false;
+    const int n = static_cast<int>(std::min(4096.0, std::ceil(upper * j.declared / eps_m))) + 1;
+    for (int s = 0; s <= n; ++s)
+      if (std::abs(j.subject.field(p_m + toward * (upper * s / n))) >= eps_m) return false;
+    return true;
+  }
+
+  void report(const Judging& j, std::map<std::string, double>& m) const {
+    m["hit.rays"] = rays;
+    m["hit.grazing_excluded"] = ambiguous;
+    m["hit.false_hit"] = false_hit;
+    m["hit.false_miss"] = false_miss;
+    m["hit.overshoot"] = overshoot;
+    m["hit.undecided"] = rays > 0 ? static_cast<double>(undecided) / rays : 0;
+    m["hit.t_err_max"] = t_err.empty() ? 0 : *std::max_element(t_err.begin(), t_err.end());
+    m["hit.t_err_p99"] = percentile(t_err, 0.99);
+    m["hit.surface_dist_max"] = surface_dist_max;
+    if (j.subject.exact_outside) m["hit.surface_dist_over_eps"] = surface_over_eps;
+    m["march.over_max_steps"] = over_steps;
+    m["camera.ray_norm_err"] = ray_norm_err;
+    m["cost.march_evals_per_ray"] = rays > 0 ? evals / rays : 0;
+  }
+};
+
+// The subject's shadows at agreed hits against the reference's, away from shadow edges.
+struct ShadowJudge {
+  int samples = 0, false_shadow = 0, false_lit = 0;
+
+  void judge(Judging& j, const SampledRay& r, const AgreedHit& h) {
+    const dvec3 p_r = r.ray.origin + r.dn * r.rh.t;
+    for (size_t l = 0; l < j.scene.lights.size(); ++l) {
+      const sdf::Light& light = j.scene.lights[l];
+      if (light.shadow == sdf::ShadowMode::none) continue;
+      const dvec3 lp = light.position_at(j.scene.time);
+      const bool point = light.type == sdf::LightType::point;
+      const dvec3 to_light = point ? glm::normalize(lp - p_r) : -glm::normalize(light.direction);
+      const double dist = point ? glm::length(lp - p_r) : j.max_dist;
+      if (glm::dot(to_light, r.rh.normal) < 0.05) continue;  // at or past the terminator: self-shadowed either way
+      const dvec3 start = p_r + r.rh.normal * (1e-7 * (1 + glm::length(p_r)));
+      const bool lit = !j.ref.first_hit(start, to_light, dist).hit;
+      if (shadow_edge(j, start, to_light, r.rh.normal, dist, 2 * h.eps_m * r.len + 1e-6 * (1 + dist), lit)) continue;
+      ++samples;
+      const double v = j.subject.visibility(h.p_m, h.n_m.value_or(r.rh.normal), to_light,
+                                            point ? glm::length(lp - h.p_m) : INFINITY, r.rec.t, light);
+      const auto text = [&] {
+        std::ostringstream out;
+        out << r.text() << "; light " << l << ": visibility " << v << " where the reference is "
+            << (lit ? "lit" : "shadowed");
+        return out.str();
+      };
+      if (lit && v < 0.5) {
+        ++false_shadow;
+        j.offenders.first("shadow.false_shadow", text);
       }
-      if (rh.inside || rh.unknown) continue;
-      // Grazing band: rays whose neighbours a hit threshold away disagree with them are left out.
-      const double t_scale = rh.hit ? rh.t : std::min(max_dist, 10.0);
-      const double band = 2 * static_cast<double>(march::hit_threshold<double>(scene.march, ctx, t_scale)) + 1e-7 * (1 + t_scale);
-      const dvec3 side = glm::normalize(glm::cross(dn, std::abs(dn.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0)));
-      const dvec3 up = glm::cross(side, dn);
-      bool grazing = false, at_edge = false;
-      for (const dvec3 offset : {side, -side, up, -up}) {
-        const ReferenceHit neighbour = ref.first_hit(ray.origin + offset * band, dn, max_dist);
-        grazing = grazing || neighbour.hit != rh.hit;
-        // A neighbour's surface turning by more than 10 degrees: a sharp edge or crease at this pixel.
-        at_edge = at_edge || (neighbour.hit && rh.hit && glm::dot(neighbour.normal, rh.normal) < 0.985);
-      }
-      if (grazing) {
-        ++ambiguous;
-        continue;
-      }
-      if (rec.outcome == Outcome::miss_steps) {
-        ++undecided;
-        offenders.first("hit.undecided", text);
-      }
-      const double t_m = rec.t * len;
-      const double eps_m = static_cast<double>(march::hit_threshold<double>(scene.march, ctx, rec.t));
-      if (rec.outcome == Outcome::hit) {
-        const dvec3 p_m = ray.origin + ray.direction * rec.t;
-        const std::optional<dvec3> n_m = subject.normal ? subject.normal(p_m, rec.t) : rec.normal;
-        if (n_m) {
-          judged_normals = true;
-          const double length_err = std::abs(glm::length(*n_m) - 1);
-          normal_length_err = std::max(normal_length_err, length_err);
-          offenders.largest("normal.length_err_max", length_err, [&] { return text() + "; normal " + vec_text(*n_m); });
-        }
-        // An upper bound on the hit point's distance to the true surface: the ray's own, then the probes
-        // (the reference normal's reverse and the marched one's: exact where the surface is flat).
-        NearestSurface near{rh.hit ? std::abs(rh.t - t_m) : INFINITY, t_m < rh.t ? dn : -dn};
-        probe_nearest(ref, p_m, {rh.hit ? -rh.normal : dvec3(0), n_m ? -*n_m : dvec3(0)}, near);
-        double upper = near.distance;
-        const dvec3 toward = near.toward;
-        const bool inside = near.inside;
-        // Float rounding of the hit point itself is allowed on top of the threshold.
-        const double rounding = 4 * subject.unit_roundoff * (glm::length(ray.origin) + t_m);
-        const double allowed = eps_m * len + rounding + ref.t_error_bound();
-        // Within the solid but no farther past the first surface than the hit point's float rounding: rounded
-        // across the surface (t's own ulp at t = 100 is 8e-6), not a step through it.
-        const bool just_past = inside && rh.hit && std::abs(t_m - rh.t) <= rounding + ref.t_error_bound();
-        if (inside && !just_past) upper = 0;  // deeper in the solid: the surface distance is unknown, the hit is wrong
-        if ((inside && !just_past) || (rh.hit && t_m > rh.t + band && upper > allowed)) {
-          ++overshoot;  // the march went through the first surface
-          offenders.first("hit.overshoot", text);
-          continue;
-        }
-        // A bound may be below the threshold farther from the surface than the threshold (where its gradient
-        // is small): such a hit is honest when |f| stays below the threshold on the straight way to the nearest
-        // surface point (a field whose own solid covers the gap is negative there: a wrong surface, still
-        // caught). Samples eps / L apart, all below eps: |f| < 1.5 eps on the whole way.
-        auto in_shell = [&] {
-          if (exact_outside || !std::isfinite(upper)) return false;
-          const int n = static_cast<int>(std::min(4096.0, std::ceil(upper * declared / eps_m))) + 1;
-          for (int s = 0; s <= n; ++s)
-            if (std::abs(subject.field(p_m + toward * (upper * s / n))) >= eps_m) return false;
-          return true;
-        };
-        const double footprint = ctx.footprint_at_0 + ctx.footprint_slope * rec.t;
-        if (upper > std::max(2 * allowed + band, estimate ? footprint : 0.0) && !in_shell()) {
-          ++false_hit;  // nothing the reference knows is near the marched hit
-          offenders.first("hit.false_hit", text);
-          continue;
-        }
-        surface_dist_max = std::max(surface_dist_max, upper);
-        // Only a field exact outside its solid promises hits within the threshold: a bound may stop farther.
-        if (exact_outside) {
-          surface_over_eps = std::max(surface_over_eps, upper / (allowed + 1e-300));
-          offenders.largest("hit.surface_dist_over_eps", upper / (allowed + 1e-300), text);
-        }
-        // A legitimate near-hit on a surface the ray itself passes by: nothing to compare t or the normal with.
-        // The ray's own gap to the reference hit beyond 10x the nearest surface's distance means it meets the
-        // surface there at more than 84 degrees from its normal, or not at this point at all.
-        if (!rh.hit || std::abs(rh.t - t_m) > 10 * (upper + allowed) + band) continue;
-        t_err.push_back(std::abs(t_m - rh.t));
-        if (n_m) {
-          const double a = std::acos(std::clamp(glm::dot(*n_m, rh.normal), -1.0, 1.0)) * 180 / std::numbers::pi;
-          (at_edge ? edge_angle : angle).push_back(a);
-          offenders.largest(at_edge ? "normal.edge_angle_p99_deg" : "normal.angle_p99_deg", a, [&] {
-            return text() + "; normal " + vec_text(*n_m) + ", reference normal " + vec_text(rh.normal);
-          });
-        }
-        const dvec3 p_r = ray.origin + dn * rh.t;
-        surface_points.push_back({p_r, rh.t});
-        if (!subject.visibility) continue;
-        for (size_t l = 0; l < scene.lights.size(); ++l) {
-          const sdf::Light& light = scene.lights[l];
-          if (light.shadow == sdf::ShadowMode::none) continue;
-          const dvec3 lp = light.position_at(scene.time);
-          const bool point = light.type == sdf::LightType::point;
-          const dvec3 to_light = point ? glm::normalize(lp - p_r) : -glm::normalize(light.direction);
-          const double dist = point ? glm::length(lp - p_r) : max_dist;
-          if (glm::dot(to_light, rh.normal) < 0.05) continue;  // at or past the terminator: self-shadowed either way
-          const double lift = 1e-7 * (1 + glm::length(p_r));
-          const dvec3 start = p_r + rh.normal * lift;
-          const bool lit = !ref.first_hit(start, to_light, dist).hit;
-          // Shadow edges: points whose shadow ray, moved by twice the hit threshold, changes its verdict.
-          const double sband = 2 * eps_m * len + 1e-6 * (1 + dist);
-          const dvec3 s_side = glm::normalize(glm::cross(to_light, std::abs(to_light.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0)));
-          const dvec3 s_up = glm::cross(s_side, to_light);
-          bool edge = false;
-          for (const dvec3 offset : {s_side, -s_side, s_up, -s_up})
-            // Lifted along the normal as far as it moves sideways, so the start never sinks into the surface.
-            edge = edge || (!ref.first_hit(start + (offset + rh.normal) * sband, to_light, dist).hit) != lit;
-          if (edge) continue;
-          ++shadow_samples;
-          const double v = subject.visibility(p_m, n_m.value_or(rh.normal), to_light,
-                                              point ? glm::length(lp - p_m) : INFINITY, rec.t, light);
-          const auto shadow_text = [&] {
-            std::ostringstream out;
-            out << text() << "; light " << l << ": visibility " << v << " where the reference is "
-                << (lit ? "lit" : "shadowed");
-            return out.str();
-          };
-          if (lit && v < 0.5) {
-            ++false_shadow;
-            offenders.first("shadow.false_shadow", shadow_text);
-          }
-          if (!lit && v >= 0.5) {
-            ++false_lit;
-            offenders.first("shadow.false_lit", shadow_text);
-          }
-        }
-      } else if (rec.outcome == Outcome::miss_far && rh.hit && rh.t < max_dist * 0.999) {
-        ++false_miss;
-        offenders.first("hit.false_miss", text);
+      if (!lit && v >= 0.5) {
+        ++false_lit;
+        j.offenders.first("shadow.false_lit", text);
       }
     }
-  m["hit.rays"] = rays;
-  m["hit.grazing_excluded"] = ambiguous;
-  m["hit.false_hit"] = false_hit;
-  m["hit.false_miss"] = false_miss;
-  m["hit.overshoot"] = overshoot;
-  m["hit.undecided"] = rays > 0 ? static_cast<double>(undecided) / rays : 0;
-  m["hit.t_err_max"] = t_err.empty() ? 0 : *std::max_element(t_err.begin(), t_err.end());
-  m["hit.t_err_p99"] = percentile(t_err, 0.99);
-  m["hit.surface_dist_max"] = surface_dist_max;
-  if (exact_outside) m["hit.surface_dist_over_eps"] = surface_over_eps;
-  m["march.over_max_steps"] = over_steps;
-  if (judged_normals) {
-    m["normal.angle_max_deg"] = angle.empty() ? 0 : *std::max_element(angle.begin(), angle.end());
-    m["normal.angle_p99_deg"] = percentile(angle, 0.99);
-    double mean = 0;
-    for (double a : angle) mean += a / static_cast<double>(angle.size());
-    m["normal.angle_mean_deg"] = mean;
-    m["normal.length_err_max"] = normal_length_err;
   }
-  if (!edge_angle.empty()) {
-    m["normal.edge_samples"] = static_cast<double>(edge_angle.size());
-    m["normal.edge_angle_max_deg"] = *std::max_element(edge_angle.begin(), edge_angle.end());
-    m["normal.edge_angle_p99_deg"] = percentile(edge_angle, 0.99);
-  }
-  if (shadow_samples > 0) {
-    m["shadow.samples"] = shadow_samples;
-    m["shadow.false_shadow"] = static_cast<double>(false_shadow) / shadow_samples;
-    m["shadow.false_lit"] = static_cast<double>(false_lit) / shadow_samples;
-  }
-  m["camera.ray_norm_err"] = ray_norm_err;
-  if (scene.camera.model == sdf::CameraModel::pinhole || scene.camera.model == sdf::CameraModel::frustum)
-    m["camera.fov_err_deg"] = std::abs(camera.measured_vertical_fov_deg() - scene.camera.fov_deg);
-  m["cost.march_evals_per_ray"] = rays > 0 ? evals / rays : 0;
 
-  // The field against its declaration, near the surfaces the camera sees: Lipschitz by finite differences in
-  // double; boundedness against the reference distance's upper bound (the nearest surface along 26
-  // directions), only where that reference is exact.
+  // Shadow edges: points whose shadow ray, moved by band (twice the hit threshold), changes its verdict.
+  static bool shadow_edge(const Judging& j, dvec3 start, dvec3 to_light, dvec3 normal, double dist, double band,
+                          bool lit) {
+    const auto [side, up] = across(to_light);
+    bool edge = false;
+    for (const dvec3 offset : {side, -side, up, -up})
+      // Lifted along the normal as far as it moves sideways, so the start never sinks into the surface.
+      edge = edge || (!j.ref.first_hit(start + (offset + normal) * band, to_light, dist).hit) != lit;
+    return edge;
+  }
+
+  void report(std::map<std::string, double>& m) const {
+    if (samples == 0) return;
+    m["shadow.samples"] = samples;
+    m["shadow.false_shadow"] = static_cast<double>(false_shadow) / samples;
+    m["shadow.false_lit"] = static_cast<double>(false_lit) / samples;
+  }
+};
+
+// The field against its declaration, near the surfaces the camera sees (reference hits, and their distance
+// along the ray): Lipschitz by finite differences in double; boundedness against the reference distance's upper
+// bound (the nearest surface along 26 directions), only where that reference is exact.
+void judge_field(Judging& j, const std::vector<std::pair<dvec3, double>>& surface_points, double ray_norm_err,
+                 std::map<std::string, double>& m) {
   std::mt19937 rng(1234);
   std::normal_distribution<double> g;
   std::uniform_real_distribution<double> u(0, 1);
+  const auto field = [&j](dvec3 p) { return j.subject.field(p); };
   double lipschitz = 0, overestimate = -INFINITY, estimate_ratio = 0;
   const size_t stride = std::max<size_t>(1, surface_points.size() / 300);
   for (size_t k = 0; k < surface_points.size(); k += stride) {
@@ -358,55 +437,82 @@ void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOpti
       const dvec3 dir = glm::normalize(dvec3(g(rng), g(rng), g(rng)));
       // Any two points bound L from below: close pairs see steep slopes, wider ones see jumps (a shape crossing
       // its repetition cell) that a close pair almost never straddles.
-      const double f = subject.field(p);
+      const double f = field(p);
       for (const double h : {1e-5 * scale, 1e-2 * scale, 0.3 * scale}) {
-        const double slope = std::abs(subject.field(p + dir * h) - f) / h;
+        const double slope = std::abs(field(p + dir * h) - f) / h;
         lipschitz = std::max(lipschitz, slope);
-        offenders.largest("sdf.lipschitz_over_declared", slope, [&] {
+        j.offenders.largest("sdf.lipschitz_over_declared", slope, [&] {
           std::ostringstream out;
           out << std::setprecision(6) << "slope " << slope << " from " << vec_text(p) << " along " << vec_text(dir)
               << " over " << h;
           return out.str();
         });
       }
-      if (!(ref.exact() || estimate) || rep > 1) continue;
+      if (!(j.ref.exact() || j.estimate) || rep > 1) continue;
       // Down the field's own gradient lies the nearest point of a field close to the reference's.
       const dvec3 grad = march::central_normal(field, p, 1e-6 * scale).n;
       NearestSurface near;
-      probe_nearest(ref, p, {f > 0 ? -grad : grad}, near);
+      probe_nearest(j.ref, p, {f > 0 ? -grad : grad}, near);
       if (near.inside || !std::isfinite(near.distance)) continue;  // the upper bound needs a point outside
-      if (estimate) {
+      if (j.estimate) {
         estimate_ratio = std::max(estimate_ratio, f / near.distance);
-      } else {
-        const double over = std::abs(f) / declared - near.distance;
-        overestimate = std::max(overestimate, over);
-        offenders.largest("sdf.overestimate_max", over, [&] {
-          std::ostringstream out;
-          out << std::setprecision(6) << "at " << vec_text(p) << ": f = " << f << ", a surface " << near.distance
-              << " away along " << vec_text(near.toward);
-          return out.str();
-        });
+        continue;
       }
+      const double over = std::abs(f) / j.declared - near.distance;
+      overestimate = std::max(overestimate, over);
+      j.offenders.largest("sdf.overestimate_max", over, [&] {
+        std::ostringstream out;
+        out << std::setprecision(6) << "at " << vec_text(p) << ": f = " << f << ", a surface " << near.distance
+            << " away along " << vec_text(near.toward);
+        return out.str();
+      });
     }
   }
   m["sdf.lipschitz_measured"] = lipschitz;
-  for (const auto& [metric, offender] : offenders.by_metric) offender_text[metric] = offender.second;
-  offender_text["march.safe_step_ratio"] = offender_text["sdf.lipschitz_over_declared"];
-  if (estimate) {
+  if (j.estimate) {
     // Nothing declared to contradict: how far the estimate exceeds the distance to the set is reported.
     m["sdf.estimate_over_distance_max"] = estimate_ratio;
     return;
   }
-  m["sdf.lipschitz_declared"] = declared;
-  m["sdf.lipschitz_over_declared"] = lipschitz / declared;
+  m["sdf.lipschitz_declared"] = j.declared;
+  m["sdf.lipschitz_over_declared"] = lipschitz / j.declared;
   // How far one step can reach past the surface: step = f * scale along a direction of length |d|, and f may
   // change by L per unit; above 1 a step can cross the surface. (The relaxed marcher's fallback is its own
   // guard: its base step counts.)
-  const double per_unit = scene.march.marcher == sdf::Marcher::scaled ? scene.march.step_scale / declared
-                          : scene.march.marcher == sdf::Marcher::fixed ? 0
-                                                                        : scene.march.step_scale;
+  const auto& s = j.scene.march;
+  const double per_unit = s.marcher == sdf::Marcher::scaled ? s.step_scale / j.declared
+                          : s.marcher == sdf::Marcher::fixed ? 0
+                                                             : s.step_scale;
   m["march.safe_step_ratio"] = lipschitz * per_unit * (1 + ray_norm_err);
   if (std::isfinite(overestimate)) m["sdf.overestimate_max"] = overestimate;
+}
+
+// Every judge over the scene's grid of primary rays.
+void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOptions& opt,
+             std::map<std::string, double>& m, std::map<std::string, std::string>& offender_text) {
+  Judging j(scene, subject);
+  HitJudge hits;
+  NormalJudge normals(static_cast<bool>(subject.normal));  // else judged when the marcher gives a normal
+  ShadowJudge shadows;
+  std::vector<std::pair<dvec3, double>> surface_points;  // reference hits and their distance, for the field
+  for (int y = 0; y < opt.rays_y; ++y)
+    for (int x = 0; x < opt.rays_x; ++x) {
+      const SampledRay r =
+          sample_ray(j, (x + 0.5) * scene.width / opt.rays_x, (y + 0.5) * scene.height / opt.rays_y);
+      const std::optional<AgreedHit> agreed = hits.judge(j, r, normals);
+      if (!agreed) continue;
+      if (agreed->n_m) normals.angle_to_reference(j.offenders, r, *agreed->n_m, agreed->at_edge);
+      surface_points.push_back({r.ray.origin + r.dn * r.rh.t, r.rh.t});
+      if (subject.visibility) shadows.judge(j, r, *agreed);
+    }
+  hits.report(j, m);
+  normals.report(m);
+  shadows.report(m);
+  if (scene.camera.model == sdf::CameraModel::pinhole || scene.camera.model == sdf::CameraModel::frustum)
+    m["camera.fov_err_deg"] = std::abs(j.camera.measured_vertical_fov_deg() - scene.camera.fov_deg);
+  judge_field(j, surface_points, hits.ray_norm_err, m);
+  for (const auto& [metric, offender] : j.offenders.by_metric) offender_text[metric] = offender.second;
+  offender_text["march.safe_step_ratio"] = offender_text["sdf.lipschitz_over_declared"];
 }
 
 void image_metrics(const ImagePair& pair, double threshold, std::map<std::string, double>& m) {
