@@ -20,8 +20,49 @@ double corner_angle(dvec3 a, dvec3 b, dvec3 c) {
   return std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v));
 }
 
+// The mesh must be a closed, consistently oriented solid with its normals outward: then every point has a
+// sign. Throws MeshShapeError naming the problem.
+void check_solid(const meshes::Mesh& mesh) {
+  meshes::MeshReport report;
+  try {
+    report = meshes::inspect(mesh);
+  } catch (const meshes::MeshError& e) {  // an index past the vertices
+    throw MeshShapeError(e.what());
+  }
+  if (const std::string problem = meshes::solid_problem(report); !problem.empty()) throw MeshShapeError(problem);
+  if (!report.outward) throw MeshShapeError("the mesh encloses a negative volume: it is inside out");
+}
+
+// Face normals, angle-weighted vertex pseudonormals, and each directed edge's face: a solid has every edge once
+// in each direction, so an edge's twin is the face across it.
+struct Pseudonormals {
+  std::vector<dvec3> face, vertex;
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> directed;
+
+  explicit Pseudonormals(const meshes::Mesh& mesh) : face(mesh.triangles.size()), vertex(mesh.vertices.size(), dvec3(0)) {
+    const auto& vs = mesh.vertices;
+    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+      const auto& t = mesh.triangles[f];
+      const dvec3 a = vs[t[0]], b = vs[t[1]], c = vs[t[2]];
+      face[f] = glm::normalize(glm::cross(b - a, c - a));
+      for (int i = 0; i < 3; ++i) {
+        directed.emplace(std::pair{t[i], t[(i + 1) % 3]}, f);
+        vertex[t[i]] += corner_angle(vs[t[i]], vs[t[(i + 1) % 3]], vs[t[(i + 2) % 3]]) * face[f];
+      }
+    }
+  }
+  // An edge's pseudonormal (edge i of face f runs from corner i to i + 1): the sum of its two faces' normals,
+  // each weighted by the angle pi.
+  dvec3 edge(const meshes::Mesh& mesh, std::uint32_t f, int i) const {
+    const auto& t = mesh.triangles[f];
+    return face[f] + face[directed.at({t[(i + 1) % 3], t[i]})];
+  }
+};
+
+}  // namespace
+
 // A node of the binary tree the four-wide one is collapsed from.
-struct BinaryNode {
+struct MeshDistance::BinaryNode {
   dvec3 lo, hi;
   std::uint32_t first;   // leaf: first triangle (BVH order); inner: left child
   std::uint32_t second;  // inner: right child
@@ -32,39 +73,16 @@ struct BinaryNode {
   }
 };
 
-}  // namespace
-
 MeshDistance::MeshDistance(const meshes::Mesh& mesh) : mesh_(mesh) {
+  check_solid(mesh);
   const auto& vs = mesh.vertices;
   const auto& ts = mesh.triangles;
-  meshes::MeshReport report;
-  try {
-    report = meshes::inspect(mesh);
-  } catch (const meshes::MeshError& e) {  // an index past the vertices
-    throw MeshShapeError(e.what());
-  }
-  if (const std::string problem = meshes::solid_problem(report); !problem.empty()) throw MeshShapeError(problem);
-  if (!report.outward) throw MeshShapeError("the mesh encloses a negative volume: it is inside out");
-  std::vector<dvec3> face_normal(ts.size());
-  std::vector<dvec3> vertex_normal(vs.size(), dvec3(0));
-  // Each directed edge and its face: a solid has every edge once in each direction, so an edge's twin is the face
-  // across it.
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> directed;
-  for (std::uint32_t f = 0; f < ts.size(); ++f) {
-    const auto& t = ts[f];
-    const dvec3 a = vs[t[0]], b = vs[t[1]], c = vs[t[2]];
-    face_normal[f] = glm::normalize(glm::cross(b - a, c - a));
-    for (int i = 0; i < 3; ++i) {
-      directed.emplace(std::pair{t[i], t[(i + 1) % 3]}, f);
-      vertex_normal[t[i]] += corner_angle(vs[t[i]], vs[t[(i + 1) % 3]], vs[t[(i + 2) % 3]]) * face_normal[f];
-    }
-  }
+  const Pseudonormals normals(mesh);
 
-  // Median split on the longest axis of the centroids' box, at a multiple of the leaf width so leaves are full.
-  std::vector<dvec3> centroid(ts.size());
+  std::vector<dvec3> centroids(ts.size());
   bounds_ = Box3{dvec3(INFINITY), dvec3(-INFINITY)};
   for (std::uint32_t f = 0; f < ts.size(); ++f) {
-    centroid[f] = (vs[ts[f][0]] + vs[ts[f][1]] + vs[ts[f][2]]) / 3.0;
+    centroids[f] = (vs[ts[f][0]] + vs[ts[f][1]] + vs[ts[f][2]]) / 3.0;
     for (int i = 0; i < 3; ++i) {
       bounds_.lo = glm::min(bounds_.lo, vs[ts[f][i]]);
       bounds_.hi = glm::max(bounds_.hi, vs[ts[f][i]]);
@@ -73,41 +91,14 @@ MeshDistance::MeshDistance(const meshes::Mesh& mesh) : mesh_(mesh) {
   order_.resize(ts.size());
   std::iota(order_.begin(), order_.end(), 0u);
   std::vector<BinaryNode> binary;
-  auto build = [&](auto&& self, std::uint32_t first, std::uint32_t count) -> std::uint32_t {
-    const auto index = static_cast<std::uint32_t>(binary.size());
-    binary.push_back({dvec3(INFINITY), dvec3(-INFINITY), first, 0, count});
-    dvec3 clo(INFINITY), chi(-INFINITY);
-    for (std::uint32_t i = first; i < first + count; ++i) {
-      for (int k = 0; k < 3; ++k) {
-        binary[index].lo = glm::min(binary[index].lo, vs[ts[order_[i]][k]]);
-        binary[index].hi = glm::max(binary[index].hi, vs[ts[order_[i]][k]]);
-      }
-      clo = glm::min(clo, centroid[order_[i]]);
-      chi = glm::max(chi, centroid[order_[i]]);
-    }
-    if (count <= kLeafWidth) return index;
-    const dvec3 extent = chi - clo;
-    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
-    const std::uint32_t half = (count / 2 + kLeafWidth - 1) / kLeafWidth * kLeafWidth;
-    std::nth_element(order_.begin() + first, order_.begin() + first + half, order_.begin() + first + count,
-                     [&](std::uint32_t x, std::uint32_t y) { return centroid[x][axis] < centroid[y][axis]; });
-    const std::uint32_t left = self(self, first, half);
-    const std::uint32_t right = self(self, first + half, count - half);
-    binary[index].first = left;
-    binary[index].second = right;
-    binary[index].count = 0;
-    return index;
-  };
-  build(build, 0, static_cast<std::uint32_t>(ts.size()));
+  split(binary, centroids, 0, static_cast<std::uint32_t>(ts.size()));
 
   Arrays<double> d;
   for (const std::uint32_t f : order_) {
     const auto& t = ts[f];
     d.corners.push_back({vs[t[0]], vs[t[1]], vs[t[2]]});
-    // An edge's pseudonormal: the sum of its two faces' normals (each weighted by the angle pi).
-    auto edge = [&](int i) { return face_normal[f] + face_normal[directed.at({t[(i + 1) % 3], t[i]})]; };
-    d.normals.push_back({vertex_normal[t[0]], vertex_normal[t[1]], vertex_normal[t[2]], edge(0), edge(1), edge(2),
-                         face_normal[f]});
+    d.normals.push_back({normals.vertex[t[0]], normals.vertex[t[1]], normals.vertex[t[2]], normals.edge(mesh, f, 0),
+                         normals.edge(mesh, f, 1), normals.edge(mesh, f, 2), normals.face[f]});
   }
   for (const auto& c : d.corners) single_.corners.push_back({glm::vec3(c[0]), glm::vec3(c[1]), glm::vec3(c[2])});
   for (const auto& n : d.normals) {
@@ -115,53 +106,84 @@ MeshDistance::MeshDistance(const meshes::Mesh& mesh) : mesh_(mesh) {
     for (size_t i = 0; i < 7; ++i) f[i] = glm::vec3(n[i]);
     single_.normals.push_back(f);
   }
-
-  // Collapsed to four children per node: an inner child with the largest box is replaced by its two children
-  // until there are four. Float boxes are rounded outwards, so a float query never prunes a box that holds its
-  // closest triangle. The root is a four-wide node even over a single leaf.
-  auto collapse = [&](auto&& self, std::uint32_t at, bool root) -> std::uint32_t {
-    const BinaryNode& b = binary[at];
-    if (b.count > 0 && !root) {
-      const auto leaf = static_cast<std::uint32_t>(d.leaves.size());
-      d.leaves.push_back(make_leaf(d.corners, b.first, b.count));
-      single_.leaves.push_back(make_leaf(single_.corners, b.first, b.count));
-      return leaf | kLeafBit;
-    }
-    std::vector<std::uint32_t> children = b.count > 0 ? std::vector{at} : std::vector{b.first, b.second};
-    while (children.size() < 4) {
-      auto widest = children.end();
-      for (auto c = children.begin(); c != children.end(); ++c)
-        if (binary[*c].count == 0 && (widest == children.end() || binary[*c].area() > binary[*widest].area()))
-          widest = c;
-      if (widest == children.end()) break;
-      const BinaryNode& w = binary[*widest];
-      *widest = w.first;
-      children.push_back(w.second);
-    }
-    const auto index = static_cast<std::uint32_t>(d.nodes.size());
-    d.nodes.emplace_back();
-    single_.nodes.emplace_back();
-    for (int k = 0; k < 4; ++k) {
-      const bool used = k < static_cast<int>(children.size());
-      for (int i = 0; i < 3; ++i) {
-        const double lo = used ? binary[children[k]].lo[i] : INFINITY;
-        const double hi = used ? binary[children[k]].hi[i] : -INFINITY;
-        d.nodes[index].lo[i][k] = lo;
-        d.nodes[index].hi[i][k] = hi;
-        float flo = static_cast<float>(lo), fhi = static_cast<float>(hi);
-        if (flo > lo) flo = std::nextafter(flo, -INFINITY);
-        if (fhi < hi) fhi = std::nextafter(fhi, INFINITY);
-        single_.nodes[index].lo[i][k] = flo;
-        single_.nodes[index].hi[i][k] = fhi;
-      }
-      const std::uint32_t child = used ? self(self, children[k], false) : 0;
-      d.nodes[index].child[k] = child;
-      single_.nodes[index].child[k] = child;
-    }
-    return index;
-  };
-  collapse(collapse, 0, true);
+  collapse(binary, 0, true, d);
   double_ = std::move(d);
+}
+
+// Median split on the longest axis of the centroids' box, at a multiple of the leaf width so leaves are full.
+std::uint32_t MeshDistance::split(std::vector<BinaryNode>& binary, const std::vector<dvec3>& centroids,
+                                  std::uint32_t first, std::uint32_t count) {
+  const auto& vs = mesh_.vertices;
+  const auto& ts = mesh_.triangles;
+  const auto index = static_cast<std::uint32_t>(binary.size());
+  binary.push_back({dvec3(INFINITY), dvec3(-INFINITY), first, 0, count});
+  dvec3 clo(INFINITY), chi(-INFINITY);
+  for (std::uint32_t i = first; i < first + count; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      binary[index].lo = glm::min(binary[index].lo, vs[ts[order_[i]][k]]);
+      binary[index].hi = glm::max(binary[index].hi, vs[ts[order_[i]][k]]);
+    }
+    clo = glm::min(clo, centroids[order_[i]]);
+    chi = glm::max(chi, centroids[order_[i]]);
+  }
+  if (count <= kLeafWidth) return index;
+  const dvec3 extent = chi - clo;
+  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+  const std::uint32_t half = (count / 2 + kLeafWidth - 1) / kLeafWidth * kLeafWidth;
+  std::nth_element(order_.begin() + first, order_.begin() + first + half, order_.begin() + first + count,
+                   [&](std::uint32_t x, std::uint32_t y) { return centroids[x][axis] < centroids[y][axis]; });
+  const std::uint32_t left = split(binary, centroids, first, half);
+  const std::uint32_t right = split(binary, centroids, first + half, count - half);
+  binary[index].first = left;
+  binary[index].second = right;
+  binary[index].count = 0;
+  return index;
+}
+
+// Collapsed to four children per node: an inner child with the largest box is replaced by its two children
+// until there are four. Float boxes are rounded outwards, so a float query never prunes a box that holds its
+// closest triangle. The root is a four-wide node even over a single leaf.
+std::uint32_t MeshDistance::collapse(const std::vector<BinaryNode>& binary, std::uint32_t at, bool root,
+                                     Arrays<double>& d) {
+  const BinaryNode& b = binary[at];
+  if (b.count > 0 && !root) {
+    const auto leaf = static_cast<std::uint32_t>(d.leaves.size());
+    d.leaves.push_back(make_leaf(d.corners, b.first, b.count));
+    single_.leaves.push_back(make_leaf(single_.corners, b.first, b.count));
+    return leaf | kLeafBit;
+  }
+  std::vector<std::uint32_t> children = b.count > 0 ? std::vector{at} : std::vector{b.first, b.second};
+  while (children.size() < 4) {
+    auto widest = children.end();
+    for (auto c = children.begin(); c != children.end(); ++c)
+      if (binary[*c].count == 0 && (widest == children.end() || binary[*c].area() > binary[*widest].area()))
+        widest = c;
+    if (widest == children.end()) break;
+    const BinaryNode& w = binary[*widest];
+    *widest = w.first;
+    children.push_back(w.second);
+  }
+  const auto index = static_cast<std::uint32_t>(d.nodes.size());
+  d.nodes.emplace_back();
+  single_.nodes.emplace_back();
+  for (int k = 0; k < 4; ++k) {
+    const bool used = k < static_cast<int>(children.size());
+    for (int i = 0; i < 3; ++i) {
+      const double lo = used ? binary[children[k]].lo[i] : INFINITY;
+      const double hi = used ? binary[children[k]].hi[i] : -INFINITY;
+      d.nodes[index].lo[i][k] = lo;
+      d.nodes[index].hi[i][k] = hi;
+      float flo = static_cast<float>(lo), fhi = static_cast<float>(hi);
+      if (flo > lo) flo = std::nextafter(flo, -INFINITY);
+      if (fhi < hi) fhi = std::nextafter(fhi, INFINITY);
+      single_.nodes[index].lo[i][k] = flo;
+      single_.nodes[index].hi[i][k] = fhi;
+    }
+    const std::uint32_t child = used ? collapse(binary, children[k], false, d) : 0;
+    d.nodes[index].child[k] = child;
+    single_.nodes[index].child[k] = child;
+  }
+  return index;
 }
 
 template <class S>

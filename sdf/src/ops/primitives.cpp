@@ -14,9 +14,8 @@ constexpr double kInf = 1e300;
 
 FieldInfo exact(Box3 bounds) { return {Kind::exact, 1, bounds, "closed form"}; }
 
-}  // namespace
-
-std::vector<OpRules> primitive_rules() {
+// The solids with a closed form.
+std::vector<OpRules> solid_rules() {
   return {
       {{Op::sphere, "sphere", 3, 0, 0, 0, {P{"radius", 1, {}, kPositive}}, "length(p) - r"},
        [](const Node& n, auto, double) { return exact(symmetric_box(glm::dvec3(n.scalar("radius")))); },
@@ -115,6 +114,12 @@ std::vector<OpRules> primitive_rules() {
        },
        compile_as_given<TapeOp::octahedron_bound>,
        {{"size", {0.9}}}},
+  };
+}
+
+// The primitives that are fields rather than solids with a closed form: a height field, a fractal, a mesh.
+std::vector<OpRules> field_rules() {
+  return {
       {{Op::heightfield, "heightfield", 3, 0, 0, 0, {P{"octaves", 0, {}, -kInf, kInf}},
         "p.y - sum(amplitude * value_noise(frequency * p.xz)) over [amplitude, frequency] pairs"},
        [](const Node& n, auto, double) {
@@ -164,6 +169,14 @@ std::vector<OpRules> primitive_rules() {
        },
        "procedural:torus(0.7,0.25,48,24)"},
   };
+}
+
+}  // namespace
+
+std::vector<OpRules> primitive_rules() {
+  std::vector<OpRules> rules = solid_rules();
+  for (auto& row : field_rules()) rules.push_back(std::move(row));
+  return rules;
 }
 
 }  // namespace marchcheck::sdf::ops

@@ -82,6 +82,12 @@ class MeshDistance {
   template <class S>
   static Leaf<S> make_leaf(const std::vector<std::array<glm::vec<3, S>, 3>>& corners, std::uint32_t first,
                            std::uint32_t count);
+  // The construction's stages: a binary tree by median splits, then collapsed to four-wide nodes in double and
+  // in float.
+  struct BinaryNode;
+  std::uint32_t split(std::vector<BinaryNode>& binary, const std::vector<glm::dvec3>& centroids, std::uint32_t first,
+                      std::uint32_t count);
+  std::uint32_t collapse(const std::vector<BinaryNode>& binary, std::uint32_t at, bool root, Arrays<double>& d);
 
   template <class S>
   const Arrays<S>& arrays() const {
