@@ -5,6 +5,7 @@
 #include "marchcheck/march/normals.hpp"
 #include "marchcheck/march/packet.hpp"
 #include "marchcheck/march/texture.hpp"
+#include "marchcheck/march/tolerances.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -327,8 +328,8 @@ struct Tracer {
         const glm::dvec3 pd(p), nd(n), lp = ctx.light_positions[i];
         const bool point = light.type == sdf::LightType::point;
         const glm::dvec3 l = point ? glm::normalize(lp - pd) : -glm::normalize(light.direction);
-        const double lift = 1e-7 * (1 + glm::length(pd));
-        visibility[i] = ctx.oracle->first_hit(pd + nd * lift, l, point ? glm::length(lp - pd) : 1e9) ? 0.0 : 1.0;
+        visibility[i] =
+            ctx.oracle->first_hit(pd + nd * tolerance::shadow_lift(pd), l, point ? glm::length(lp - pd) : 1e9) ? 0.0 : 1.0;
       }
       return 0;
     }

@@ -2,6 +2,8 @@
 
 #include "marchcheck/validation/mesh_reference.hpp"
 
+#include "marchcheck/march/tolerances.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -370,6 +372,8 @@ Reference::Reference(const Node& node, double time)
       tape_(sdf::compile(node, time)),
       lipschitz_(sdf::derive_info(node, time).lipschitz) {}
 
+double Reference::t_error_bound() const { return exact_ ? 0 : march::tolerance::kReferenceBisection; }
+
 ReferenceHit Reference::first_hit(dvec3 o, dvec3 d, double t_max) const {
   ReferenceHit out;
   if (exact_) {
@@ -405,11 +409,11 @@ ReferenceHit Reference::first_hit(dvec3 o, dvec3 d, double t_max) const {
     return out;
   }
   for (int i = 0; i < 200000 && t < t_max; ++i) {
-    const double step = std::max(v / lipschitz_, 1e-7 * (1 + t));
+    const double step = std::max(v / lipschitz_, march::tolerance::reference_min_step(t));
     const double next = t + step, w = f(next);
-    if (w < 0 || (w < 1e-12)) {
+    if (w < march::tolerance::kReferenceTouch) {
       double a = t, b = next;
-      for (int it = 0; it < 200 && b - a > 1e-9; ++it) {
+      for (int it = 0; it < 200 && b - a > march::tolerance::kReferenceBisection; ++it) {
         const double m = 0.5 * (a + b);
         (f(m) < 0 ? b : a) = m;
       }

@@ -3,6 +3,7 @@
 #include "marchcheck/march/camera.hpp"
 #include "marchcheck/march/effects.hpp"
 #include "marchcheck/march/render.hpp"
+#include "marchcheck/march/tolerances.hpp"
 #include "marchcheck/validation/reference.hpp"
 #include "marchcheck/validation/statistics.hpp"
 
@@ -270,10 +271,10 @@ struct HitJudge {
     return std::nullopt;
   }
 
-  // Rays whose neighbours a hit threshold away disagree with them are left out.
+  // Rays whose neighbours a grazing band away disagree with them are left out.
   static double grazing_band(const Judging& j, const SampledRay& r) {
     const double t_scale = r.rh.hit ? r.rh.t : std::min(j.max_dist, 10.0);
-    return 2 * j.hit_threshold(t_scale) + 1e-7 * (1 + t_scale);
+    return march::tolerance::grazing_band(j.hit_threshold(t_scale), t_scale);
   }
   static bool grazing(const Judging& j, const SampledRay& r, double band, bool& at_edge) {
     const auto [side, up] = across(r.dn);
@@ -281,8 +282,7 @@ struct HitJudge {
     for (const dvec3 offset : {side, -side, up, -up}) {
       const ReferenceHit neighbour = j.ref.first_hit(r.ray.origin + offset * band, r.dn, j.max_dist);
       grazing = grazing || neighbour.hit != r.rh.hit;
-      // A neighbour's surface turning by more than 10 degrees: a sharp edge or crease at this pixel.
-      at_edge = at_edge || (neighbour.hit && r.rh.hit && glm::dot(neighbour.normal, r.rh.normal) < 0.985);
+      at_edge = at_edge || (neighbour.hit && r.rh.hit && glm::dot(neighbour.normal, r.rh.normal) < march::tolerance::kSharpEdgeCos);
     }
     return grazing;
   }
@@ -301,8 +301,8 @@ struct HitJudge {
     NearestSurface near{rh.hit ? std::abs(rh.t - t_m) : INFINITY, t_m < rh.t ? r.dn : -r.dn};
     probe_nearest(j.ref, p_m, {rh.hit ? -rh.normal : dvec3(0), n_m ? -*n_m : dvec3(0)}, near);
     double upper = near.distance;
-    // Float rounding of the hit point itself is allowed on top of the threshold.
-    const double rounding = 4 * j.subject.unit_roundoff * (glm::length(r.ray.origin) + t_m);
+    // Rounding of the hit point itself is allowed on top of the threshold.
+    const double rounding = march::tolerance::hit_point_rounding(j.subject.unit_roundoff, r.ray.origin, t_m);
     const double allowed = eps_m * r.len + rounding + j.ref.t_error_bound();
     // Within the solid but no farther past the first surface than the hit point's float rounding: rounded
     // across the surface (t's own ulp at t = 100 is 8e-6), not a step through it.
@@ -376,9 +376,10 @@ struct ShadowJudge {
       const dvec3 to_light = point ? glm::normalize(lp - p_r) : -glm::normalize(light.direction);
       const double dist = point ? glm::length(lp - p_r) : j.max_dist;
       if (glm::dot(to_light, r.rh.normal) < 0.05) continue;  // at or past the terminator: self-shadowed either way
-      const dvec3 start = p_r + r.rh.normal * (1e-7 * (1 + glm::length(p_r)));
+      const dvec3 start = p_r + r.rh.normal * march::tolerance::shadow_lift(p_r);
       const bool lit = !j.ref.first_hit(start, to_light, dist).hit;
-      if (shadow_edge(j, start, to_light, r.rh.normal, dist, 2 * h.eps_m * r.len + 1e-6 * (1 + dist), lit)) continue;
+      if (shadow_edge(j, start, to_light, r.rh.normal, dist, march::tolerance::shadow_edge_band(h.eps_m * r.len, dist), lit))
+        continue;
       ++samples;
       const double v = j.subject.visibility(h.p_m, h.n_m.value_or(r.rh.normal), to_light,
                                             point ? glm::length(lp - h.p_m) : INFINITY, r.rec.t, light);
@@ -399,7 +400,7 @@ struct ShadowJudge {
     }
   }
 
-  // Shadow edges: points whose shadow ray, moved by band (twice the hit threshold), changes its verdict.
+  // Shadow edges: points whose shadow ray, moved by band, changes its verdict.
   static bool shadow_edge(const Judging& j, dvec3 start, dvec3 to_light, dvec3 normal, double dist, double band,
                           bool lit) {
     const auto [side, up] = across(to_light);
