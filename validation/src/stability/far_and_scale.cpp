@@ -1,0 +1,249 @@
+// Far coordinates (float, double and the camera-relative fix) and scales from 1e-8 to 1e8.
+#include "battery.hpp"
+
+#include "marchcheck/march/camera.hpp"
+#include "marchcheck/march/camera_relative.hpp"
+#include "marchcheck/march/normals.hpp"
+#include "marchcheck/validation/reference.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <utility>
+
+namespace marchcheck::validation::stability {
+
+namespace {
+
+constexpr float kFloatEps = std::numeric_limits<float>::epsilon();
+
+// ---- far coordinates: float, double and the camera-relative fix ----
+
+struct FarErrors {
+  double t_err = 0, normal_deg = 0;
+  int missed = 0, t_off = 0, normal_off = 0;  // rays that did not hit; hits beyond the t bound; beyond 1 degree
+  int wrong = 0;                              // rays with any of the three
+};
+
+// The broken variants of one precision's march: no budget, the hit lifted off the surface, a facing normal.
+enum class FarBreak { none, one_step, hit_lifted, normal_facing };
+
+FarBreak far_break(const Run& r, const std::string& precision) {
+  for (const auto& [name, kind] : {std::pair{".one_step", FarBreak::one_step}, std::pair{".hit_lifted", FarBreak::hit_lifted},
+                                   std::pair{".normal_facing", FarBreak::normal_facing}})
+    if (r.as(precision + name)) return kind;
+  return FarBreak::none;
+}
+
+constexpr double kFarEps = 1e-4;
+
+// A unit sphere at offset seen from 4 units away: rays marched in T, in world coordinates or camera-relative.
+template <class T>
+FarErrors far_errors(dvec3 offset, bool relative, FarBreak broken = FarBreak::none) {
+  using V = glm::vec<3, T>;
+  const sdf::Node world = sdf::translate(offset, sdf::sphere(1));
+  const dvec3 eye = offset + dvec3(0, 0, 4);
+  const sdf::Tape tape = sdf::compile(relative ? march::camera_relative(world, eye) : world);
+  const TapeField field{&tape};
+  const Reference ref(world, 0);
+  MarchSettings ms;
+  ms.hit_eps = kFarEps;
+  ms.max_steps = broken == FarBreak::one_step ? 1 : 1000;
+  FarErrors out;
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 6; ++i) {
+      const dvec3 d = glm::normalize(offset + dvec3((i - 2.5) / 4, (j - 2.5) / 4, 0) - eye);
+      const ReferenceHit exact = ref.first_hit(eye, d, 100);
+      const V origin = relative ? V(0) : V(eye);
+      auto rec = march::march<T>(field, origin, V(d), ms, {});
+      if (rec.outcome != Outcome::hit) {
+        ++out.missed;
+        ++out.wrong;
+        continue;
+      }
+      if (broken == FarBreak::hit_lifted) rec.t -= T(10 * kFarEps);  // backed off 10 hit_eps along the ray
+      const double t_err = std::abs(double(rec.t) - exact.t);
+      const double cos_i = -glm::dot(d, exact.normal);
+      const dvec3 n = broken == FarBreak::normal_facing
+                          ? -d  // the shortcut "the surface faces the eye"
+                          : dvec3(march::estimate_normal(field, origin + V(d) * rec.t, sdf::NormalMethod::central, T(1e-3)).n);
+      const double nd = glm::dot(n, n) > 0 ? angle_deg(n, exact.normal) : 180.0;
+      // hit_eps along the normal is hit_eps / cos along the ray; 1e-5 covers float rounding of local coordinates
+      // (|q| <= 5, float epsilon 1.2e-7, a few dozen operations). Central differences at 1e-3 on a unit sphere
+      // are far under a degree off.
+      const bool t_off = t_err > kFarEps / cos_i + 1e-5, normal_off = !(nd <= 1);
+      out.t_off += t_off;
+      out.normal_off += normal_off;
+      out.wrong += t_off || normal_off;
+      out.t_err = std::max(out.t_err, t_err);
+      out.normal_deg = std::max(out.normal_deg, nd);
+    }
+  return out;
+}
+
+void far_record(Run& r, const std::string& prefix, const FarErrors& e) {
+  r.m[prefix + ".t_err"] = e.t_err;
+  r.m[prefix + ".normal_err_deg"] = e.normal_deg;
+  r.m[prefix + ".wrong"] = e.wrong;
+}
+
+// One precision's three clauses at one offset: every ray hits, within the t bound, with its normal within 1 degree.
+void far_require(Run& r, const std::string& precision, dvec3 offset, const FarErrors& e) {
+  const std::string at = precision + " at offset " + num(glm::length(offset)) + ": ";
+  r.require(precision + ".hits", e.missed == 0, at + std::to_string(e.missed) + " rays missed");
+  r.require(precision + ".t", e.t_off == 0, at + std::to_string(e.t_off) + " hits beyond hit_eps / cos + 1e-5");
+  r.require(precision + ".normal", e.normal_off == 0, at + std::to_string(e.normal_off) + " normals off by over 1 degree");
+}
+
+// The variants that break one clause of far_require in one precision.
+std::vector<StabilityVariant> far_variants(const std::string& precision) {
+  return {{precision + ".one_step", precision + ".hits", precision + " marched with max_steps 1"},
+          {precision + ".hit_lifted", precision + ".t", precision + " hits backed off 10 hit_eps along the ray"},
+          {precision + ".normal_facing", precision + ".normal", precision + " normals taken as the ray reversed"}};
+}
+
+// The renderer's answer (camera-relative float; naive: float in world coordinates) and double must hold.
+void far_offsets(Run& r, const std::vector<dvec3>& offsets, bool label_by_decade) {
+  for (const dvec3& off : offsets) {
+    const std::string at = label_by_decade ? decade(glm::length(off)) + "." : "";
+    const FarErrors fl = far_errors<float>(off, !r.naive(), far_break(r, "float"));
+    const FarErrors db = far_errors<double>(off, false, far_break(r, "double"));
+    far_record(r, at + (r.naive() ? "float_world" : "float_camera_relative"), fl);
+    far_record(r, at + "double", db);
+    far_require(r, "float", off, fl);
+    far_require(r, "double", off, db);
+  }
+}
+
+std::vector<dvec3> decade_offsets() {
+  std::vector<dvec3> out;
+  for (int k = 1; k <= 7; ++k) out.push_back(dvec3(1, 1, 1) * (std::pow(10.0, k) / std::sqrt(3.0)));
+  return out;
+}
+
+// Double holds at every offset; float in world coordinates breaks down where its spacing passes hit_eps.
+void far_double(Run& r, const StabilityOptions&) {
+  double breakdown = 0, predicted = 0;
+  for (const dvec3& off : decade_offsets()) {
+    // Float's spacing at the coordinates: once it passes hit_eps, rounding alone moves hits off by more.
+    const float c = static_cast<float>(off.x);
+    if (predicted == 0 && std::nextafter(c, INFINITY) - c > kFarEps) predicted = glm::length(off);
+    const std::string at = decade(glm::length(off)) + ".";
+    const FarErrors fl = far_errors<float>(off, false);
+    const FarErrors db = r.naive() ? fl : far_errors<double>(off, false, far_break(r, "double"));
+    far_record(r, at + "float_world", fl);
+    far_record(r, at + (r.naive() ? "float_as_double" : "double"), db);
+    if (fl.wrong > 0 && breakdown == 0) breakdown = glm::length(off);
+    far_require(r, "double", off, db);
+  }
+  r.m["float_world.breakdown_offset"] = breakdown;
+  r.m["float_world.breakdown_predicted"] = predicted;
+}
+
+// ---- scales from 1e-8 to 1e8 ----
+
+// A sphere of radius S seen from 4 S: rays through its inner disk must hit within the threshold, rays past its
+// silhouette must miss. Records the worst relative t error and each clause's count of wrong rays.
+void scale_errors(Run& r, const std::string& label, double scale, march::EpsMode mode) {
+  const sdf::Node node = sdf::sphere(scale);
+  const sdf::Tape tape = sdf::compile(node);
+  const TapeField field{&tape};
+  const Reference ref(node, 0);
+  sdf::CameraSpec spec;
+  spec.position = {0, 0, 4 * scale};
+  spec.fov_deg = 40;
+  const march::Camera camera(spec, 64, 64);
+  const march::MarchContext ctx = march::march_context(camera);
+  MarchSettings ms;
+  ms.eps_mode = r.naive() ? march::EpsMode::absolute : mode;
+  ms.hit_eps = r.naive() ? 1e-3 : 1e-4;  // naive: the absolute epsilon that suits unit scenes
+  ms.max_dist = 10 * scale;
+  ms.max_steps = 1000;
+  const double reference_max_dist = ms.max_dist;
+  if (r.as("max_dist_short")) ms.max_dist = 2 * scale;  // a max_dist left unscaled: short of the sphere at 3 S
+  int missed = 0, t_off = 0, outer_hit = 0;
+  double worst = 0;
+  const dvec3 eye = spec.position;
+  for (int j = 0; j < 7; ++j)
+    for (int i = 0; i < 7; ++i) {
+      // Inner disk (radius 0.8 S at the centre plane) and a ring outside the silhouette (1.3 S).
+      const double a = 2 * kPi * (i + 7 * j) / 49, rr = (i + j) % 2 ? 0.8 * scale * (j + 1) / 7 : 1.3 * scale;
+      const dvec3 d = glm::normalize(dvec3(rr * std::cos(a), rr * std::sin(a), 0) - eye);
+      const ReferenceHit exact = ref.first_hit(eye, d, reference_max_dist);
+      auto rec = march::march<float>(field, vec3(eye), vec3(d), ms, ctx);
+      if (r.as("miss_as_hit") && rec.outcome == Outcome::miss_far) rec.outcome = Outcome::hit;  // t < inf read as a hit
+      if (!exact.hit) {
+        outer_hit += rec.outcome != Outcome::miss_far;
+        continue;
+      }
+      if (rec.outcome != Outcome::hit) {
+        ++missed;
+        continue;
+      }
+      // hit_lifted: the hit backed off 10 thresholds along the ray
+      if (r.as("hit_lifted")) rec.t -= 10 * static_cast<float>(march::hit_threshold(ms, ctx, rec.t));
+      const double rel = std::abs(double(rec.t) - exact.t) / exact.t;
+      const double cos_i = -glm::dot(d, exact.normal);
+      // The threshold along the normal is threshold / cos along the ray; float rounds |p| (about 4 S) to
+      // 4 epsilon relative at most over the few operations of one evaluation.
+      const double bound = march::hit_threshold(ms, ctx, exact.t) / cos_i / exact.t + 4 * kFloatEps * 4;
+      t_off += !(rel <= bound);
+      worst = std::max(worst, rel);
+    }
+  r.m[label + ".scale"] = scale;
+  r.m[label + ".t_rel_err"] = worst;
+  r.m[label + ".wrong"] = missed + t_off + outer_hit;
+  const std::string at = " at scale " + num(scale);
+  r.require("inner.hits", missed == 0, std::to_string(missed) + " inner rays missed" + at);
+  r.require("inner.t", t_off == 0, std::to_string(t_off) + " inner hits beyond threshold / cos" + at);
+  r.require("outer.miss", outer_hit == 0, std::to_string(outer_hit) + " rays past the silhouette did not miss" + at);
+}
+
+void scale_case(Run& r, march::EpsMode mode, const std::vector<double>& scales) {
+  for (size_t i = 0; i < scales.size(); ++i)
+    scale_errors(r, scales.size() == 1 ? decade(scales[i]) : "s" + std::to_string(i), scales[i], mode);
+}
+
+std::vector<double> log_uniform_scales() {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-8, 8);
+  std::vector<double> out;
+  for (int i = 0; i < 12; ++i) out.push_back(std::pow(10.0, u(rng)));
+  return out;
+}
+
+}  // namespace
+
+void add_far_and_scale_cases(Battery& b) {
+  const Variants far_both = plus(far_variants("float"), far_variants("double"));
+  b.add("far.camera_relative", "a unit sphere offset 1e1..1e7, marched in float camera-relative, and in double",
+        "every ray hits within hit_eps / cos + 1e-5, normals within 1 degree",
+        plus({{"naive", "", "float in world coordinates"}}, far_both),
+        [](Run& r, const StabilityOptions&) { far_offsets(r, decade_offsets(), true); });
+  b.add("far.embree_offset",
+        "the scene at Embree's offset (148376, 1234, -223423), float camera-relative and double",
+        "every ray hits within hit_eps / cos + 1e-5, normals within 1 degree",
+        plus({{"naive", "", "float in world coordinates"}}, far_both),
+        [](Run& r, const StabilityOptions&) { far_offsets(r, {{148376, 1234, -223423}}, false); });
+  b.add("far.double", "world-coordinate double at offsets 1e1..1e7; float's error growth and breakdown beside it",
+        "double: every ray within hit_eps / cos + 1e-5 and 1 degree",
+        plus({{"naive", "", "float in place of double"}}, far_variants("double")), far_double);
+  const Variants scale_variants = {{"naive", "", "absolute hit_eps 1e-3"},
+                                   {"max_dist_short", "inner.hits", "max_dist 2 S, short of the sphere"},
+                                   {"hit_lifted", "inner.t", "hits backed off 10 thresholds along the ray"},
+                                   {"miss_as_hit", "outer.miss", "a ray past max_dist read as a hit"}};
+  for (const auto& [label, mode] : std::vector<std::pair<std::string, march::EpsMode>>{
+           {"relative", march::EpsMode::relative}, {"pixel", march::EpsMode::pixel}}) {
+    for (const double s : {1e-8, 1e8})
+      b.add("scale." + label + "." + decade(s), "a sphere of radius " + num(s) + " seen from 4x, eps_mode " + label,
+            "inner rays hit within threshold / cos, outer rays miss", scale_variants,
+            [mode = mode, s](Run& r, const StabilityOptions&) { scale_case(r, mode, {s}); });
+    b.add("scale." + label + ".log_uniform", "12 sphere radii log-uniform in 1e-8..1e8 (seed 7), eps_mode " + label,
+          "inner rays hit within threshold / cos, outer rays miss, at every scale", scale_variants,
+          [mode = mode](Run& r, const StabilityOptions&) { scale_case(r, mode, log_uniform_scales()); });
+  }
+}
+
+}  // namespace marchcheck::validation::stability
