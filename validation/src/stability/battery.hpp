@@ -5,6 +5,7 @@
 
 #include "marchcheck/march/marcher.hpp"
 #include "marchcheck/march/render.hpp"
+#include "marchcheck/march/tolerances.hpp"
 #include "marchcheck/validation/stability.hpp"
 
 #include <glm/glm.hpp>

@@ -17,8 +17,6 @@ namespace marchcheck::validation::stability {
 
 namespace {
 
-constexpr float kFloatEps = std::numeric_limits<float>::epsilon();
-
 // ---- far coordinates: float, double and the camera-relative fix ----
 
 struct FarErrors {
@@ -70,10 +68,9 @@ FarErrors far_errors(dvec3 offset, bool relative, FarBreak broken = FarBreak::no
                           ? -d  // the shortcut "the surface faces the eye"
                           : dvec3(march::estimate_normal(field, origin + V(d) * rec.t, sdf::NormalMethod::central, T(1e-3)).n);
       const double nd = glm::dot(n, n) > 0 ? angle_deg(n, exact.normal) : 180.0;
-      // hit_eps along the normal is hit_eps / cos along the ray; 1e-5 covers float rounding of local coordinates
-      // (|q| <= 5, float epsilon 1.2e-7, a few dozen operations). Central differences at 1e-3 on a unit sphere
-      // are far under a degree off.
-      const bool t_off = t_err > kFarEps / cos_i + 1e-5, normal_off = !(nd <= 1);
+      // hit_eps along the normal is hit_eps / cos along the ray, plus float rounding of local coordinates (|q| <= 5).
+      // Central differences at 1e-3 on a unit sphere are far under a degree off.
+      const bool t_off = t_err > kFarEps / cos_i + march::tolerance::kFloatRoundingNearUnit, normal_off = !(nd <= 1);
       out.t_off += t_off;
       out.normal_off += normal_off;
       out.wrong += t_off || normal_off;
@@ -186,9 +183,9 @@ void scale_errors(Run& r, const std::string& label, double scale, march::EpsMode
       if (r.as("hit_lifted")) rec.t -= 10 * static_cast<float>(march::hit_threshold(ms, ctx, rec.t));
       const double rel = std::abs(double(rec.t) - exact.t) / exact.t;
       const double cos_i = -glm::dot(d, exact.normal);
-      // The threshold along the normal is threshold / cos along the ray; float rounds |p| (about 4 S) to
-      // 4 epsilon relative at most over the few operations of one evaluation.
-      const double bound = march::hit_threshold(ms, ctx, exact.t) / cos_i / exact.t + 4 * kFloatEps * 4;
+      // The threshold along the normal is threshold / cos along the ray, plus float's rounding relative to t.
+      const double bound =
+          march::hit_threshold(ms, ctx, exact.t) / cos_i / exact.t + march::tolerance::kFloatRoundingRelative;
       t_off += !(rel <= bound);
       worst = std::max(worst, rel);
     }

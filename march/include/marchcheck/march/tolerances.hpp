@@ -5,6 +5,8 @@
 
 #include <glm/glm.hpp>
 
+#include <limits>
+
 
 namespace marchcheck::march::tolerance {
 
@@ -44,5 +46,14 @@ inline double shadow_edge_band(double hit_threshold_along_ray, double shadow_ray
 // Neighbouring reference normals further apart than acos(0.985) = 9.9 degrees: a sharp edge or crease at this
 // pixel.
 inline constexpr double kSharpEdgeCos = 0.985;
+
+// A float march's t at unit scale may sit this far from the exact one on top of its threshold: float rounding
+// (machine epsilon 1.2e-7) of coordinates up to about 5 through the few dozen operations of one evaluation
+// (5 x 1.2e-7 x 16 = 1e-5).
+inline constexpr double kFloatRoundingNearUnit = 1e-5;
+
+// The same relative to t at any scale S: float rounds the point's coordinates (about 4 S) to within 4 machine
+// epsilons over one evaluation's few operations, 16 epsilons of t.
+inline constexpr double kFloatRoundingRelative = 16 * static_cast<double>(std::numeric_limits<float>::epsilon());
 
 }  // namespace marchcheck::march::tolerance
