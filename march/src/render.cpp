@@ -328,8 +328,8 @@ struct Tracer {
         const glm::dvec3 pd(p), nd(n), lp = ctx.light_positions[i];
         const bool point = light.type == sdf::LightType::point;
         const glm::dvec3 l = point ? glm::normalize(lp - pd) : -glm::normalize(light.direction);
-        visibility[i] =
-            ctx.oracle->first_hit(pd + nd * tolerance::shadow_lift(pd), l, point ? glm::length(lp - pd) : 1e9) ? 0.0 : 1.0;
+        const glm::dvec3 start = pd + nd * tolerance::shadow_lift(pd);
+        visibility[i] = ctx.oracle->first_hit(start, l, point ? glm::length(lp - pd) : 1e9) ? 0.0 : 1.0;
       }
       return 0;
     }

@@ -39,7 +39,8 @@ struct Pseudonormals {
   std::vector<dvec3> face, vertex;
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> directed;
 
-  explicit Pseudonormals(const meshes::Mesh& mesh) : face(mesh.triangles.size()), vertex(mesh.vertices.size(), dvec3(0)) {
+  explicit Pseudonormals(const meshes::Mesh& mesh)
+      : face(mesh.triangles.size()), vertex(mesh.vertices.size(), dvec3(0)) {
     const auto& vs = mesh.vertices;
     for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
       const auto& t = mesh.triangles[f];

@@ -9,8 +9,7 @@ namespace marchcheck::sdf {
 
 namespace {
 
-template <class T>
-using v3 = glm::vec<3, T>;
+using smath::vec3;
 
 template <class T, bool WithMaterial>
 struct Stacks {
@@ -48,7 +47,7 @@ MARCHCHECK_KERNEL void source(const kernels::Args<T>& k, const Instr& in, Lanes<
   const T* __restrict py = l.py();
   const T* __restrict pz = l.pz();
   T* __restrict r = l.value(++l.vt);
-  for (int i = 0; i < l.n; ++i) r[i] = Kernel(k, v3<T>(px[i], py[i], pz[i]));
+  for (int i = 0; i < l.n; ++i) r[i] = Kernel(k, vec3<T>(px[i], py[i], pz[i]));
   if constexpr (WithMaterial)
     for (int i = 0; i < l.n; ++i) l.s.m[l.vt][i] = in.material;
 }
@@ -59,7 +58,7 @@ MARCHCHECK_KERNEL void value(const kernels::Args<T>& k, const Instr&, Lanes<T, W
   const T* __restrict py = l.py();
   const T* __restrict pz = l.pz();
   T* __restrict r = l.value(l.vt);
-  for (int i = 0; i < l.n; ++i) r[i] = Kernel(k, r[i], v3<T>(px[i], py[i], pz[i]));
+  for (int i = 0; i < l.n; ++i) r[i] = Kernel(k, r[i], vec3<T>(px[i], py[i], pz[i]));
 }
 
 template <auto Kernel, class T, bool WithMaterial>
@@ -89,7 +88,7 @@ MARCHCHECK_KERNEL void point(const kernels::Args<T>& k, const Instr&, Lanes<T, W
   T* __restrict qy = l.s.y[l.pt];
   T* __restrict qz = l.s.z[l.pt];
   for (int i = 0; i < l.n; ++i) {
-    const v3<T> q = Kernel(k, v3<T>(px[i], py[i], pz[i]));
+    const vec3<T> q = Kernel(k, vec3<T>(px[i], py[i], pz[i]));
     qx[i] = q.x;
     qy[i] = q.y;
     qz[i] = q.z;

@@ -282,7 +282,8 @@ struct HitJudge {
     for (const dvec3 offset : {side, -side, up, -up}) {
       const ReferenceHit neighbour = j.ref.first_hit(r.ray.origin + offset * band, r.dn, j.max_dist);
       grazing = grazing || neighbour.hit != r.rh.hit;
-      at_edge = at_edge || (neighbour.hit && r.rh.hit && glm::dot(neighbour.normal, r.rh.normal) < march::tolerance::kSharpEdgeCos);
+      at_edge = at_edge ||
+                (neighbour.hit && r.rh.hit && glm::dot(neighbour.normal, r.rh.normal) < march::tolerance::kSharpEdgeCos);
     }
     return grazing;
   }
@@ -314,7 +315,8 @@ struct HitJudge {
       return std::nullopt;
     }
     const double footprint = j.ctx.footprint_at_0 + j.ctx.footprint_slope * r.rec.t;
-    if (upper > std::max(2 * allowed + band, j.estimate ? footprint : 0.0) && !in_shell(j, p_m, near.toward, upper, eps_m)) {
+    if (upper > std::max(2 * allowed + band, j.estimate ? footprint : 0.0) &&
+        !in_shell(j, p_m, near.toward, upper, eps_m)) {
       ++false_hit;  // nothing the reference knows is near the marched hit
       j.offenders.first("hit.false_hit", text);
       return std::nullopt;
@@ -378,8 +380,8 @@ struct ShadowJudge {
       if (glm::dot(to_light, r.rh.normal) < 0.05) continue;  // at or past the terminator: self-shadowed either way
       const dvec3 start = p_r + r.rh.normal * march::tolerance::shadow_lift(p_r);
       const bool lit = !j.ref.first_hit(start, to_light, dist).hit;
-      if (shadow_edge(j, start, to_light, r.rh.normal, dist, march::tolerance::shadow_edge_band(h.eps_m * r.len, dist), lit))
-        continue;
+      const double edge_band = march::tolerance::shadow_edge_band(h.eps_m * r.len, dist);
+      if (shadow_edge(j, start, to_light, r.rh.normal, dist, edge_band, lit)) continue;
       ++samples;
       const double v = j.subject.visibility(h.p_m, h.n_m.value_or(r.rh.normal), to_light,
                                             point ? glm::length(lp - h.p_m) : INFINITY, r.rec.t, light);

@@ -21,7 +21,8 @@ FieldInfo combined(const Node& n, std::span<const FieldInfo> cs, Bounds bounds) 
   for (const auto& c : cs) {
     out.kind = weaker(out.kind, c.kind);
     out.lipschitz = std::max(out.lipschitz, c.lipschitz);
-    if (bounds == Bounds::hull) out.bounds = {glm::min(out.bounds.lo, c.bounds.lo), glm::max(out.bounds.hi, c.bounds.hi)};
+    if (bounds == Bounds::hull)
+      out.bounds = {glm::min(out.bounds.lo, c.bounds.lo), glm::max(out.bounds.hi, c.bounds.hi)};
     if (bounds == Bounds::overlap)
       out.bounds = {glm::max(out.bounds.lo, c.bounds.lo), glm::min(out.bounds.hi, c.bounds.hi)};
   }

@@ -74,8 +74,8 @@ std::vector<OpRules> modifier_rules() {
        [](Compiler& c, const Node& n) { c.primitive(TapeOp::grid, grid_samples(c, n), n); },
        {{"resolution", {48}}},
        [](const Node& n) {
-         return derive_info(n.children[0]).bounds.is_finite() ? std::string()
-                                                              : std::string("/child: a grid needs a child with finite bounds");
+         if (derive_info(n.children[0]).bounds.is_finite()) return std::string();
+         return std::string("/child: a grid needs a child with finite bounds");
        }},
   };
 }

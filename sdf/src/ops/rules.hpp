@@ -50,7 +50,9 @@ class Compiler {
   Tape finish();
 
   void node(const Node& n);
-  std::uint32_t constants(std::initializer_list<double> values) { return constants(std::span(values.begin(), values.size())); }
+  std::uint32_t constants(std::initializer_list<double> values) {
+    return constants(std::span(values.begin(), values.size()));
+  }
   std::uint32_t constants(std::span<const double> values);
   // A primitive's instruction: pushes a value that carries the node's material.
   void primitive(TapeOp op, std::uint32_t arg, const Node& n);

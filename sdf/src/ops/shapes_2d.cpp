@@ -62,7 +62,8 @@ std::vector<OpRules> shape_2d_rules() {
        [](const Node& n, std::span<const FieldInfo> cs, double) {
          const Box3& b = cs[0].bounds;
          const double h = n.scalar("half_depth");
-         return like_child(cs[0], Box3{{b.lo.x, b.lo.y, -h}, {b.hi.x, b.hi.y, h}}, "extrusion keeps the 2D shape's kind");
+         return like_child(cs[0], Box3{{b.lo.x, b.lo.y, -h}, {b.hi.x, b.hi.y, h}},
+                           "extrusion keeps the 2D shape's kind");
        },
        [](Compiler& c, const Node& n) { c.modify(TapeOp::extrude, n, c.constants(n.params)); },
        {{"half_depth", {0.3}}}},

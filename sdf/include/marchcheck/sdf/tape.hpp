@@ -67,22 +67,24 @@ struct Sample {
 
 namespace detail {
 
-template <class T>
-using v3 = glm::vec<3, T>;
+using smath::vec3;
 
 // One instruction on the stacks (vt, pt: the top value and point), by its kernel's shape.
 template <auto Kernel, class T, bool WithMaterial>
-MARCHCHECK_KERNEL void source(const kernels::Args<T>& k, const Instr& in, T* values, int* materials, int& vt, v3<T>* points,
+MARCHCHECK_KERNEL void source(const kernels::Args<T>& k, const Instr& in, T* values, int* materials, int& vt,
+                              vec3<T>* points,
                    int& pt) {
   values[++vt] = Kernel(k, points[pt]);
   if constexpr (WithMaterial) materials[vt] = in.material;
 }
 template <auto Kernel, class T, bool WithMaterial>
-MARCHCHECK_KERNEL void value(const kernels::Args<T>& k, const Instr&, T* values, int*, int& vt, v3<T>* points, int& pt) {
+MARCHCHECK_KERNEL void value(const kernels::Args<T>& k, const Instr&, T* values, int*, int& vt, vec3<T>* points,
+                             int& pt) {
   values[vt] = Kernel(k, values[vt], points[pt]);
 }
 template <auto Kernel, class T, bool WithMaterial>
-MARCHCHECK_KERNEL void binary(const kernels::Args<T>& k, const Instr&, T* values, int* materials, int& vt, v3<T>*, int&) {
+MARCHCHECK_KERNEL void binary(const kernels::Args<T>& k, const Instr&, T* values, int* materials, int& vt, vec3<T>*,
+                              int&) {
   const T b = values[vt--];
   const kernels::Combined<T> r = Kernel(k, values[vt], b);
   if constexpr (WithMaterial)
@@ -90,13 +92,13 @@ MARCHCHECK_KERNEL void binary(const kernels::Args<T>& k, const Instr&, T* values
   values[vt] = r.value;
 }
 template <auto Kernel, class T, bool WithMaterial>
-MARCHCHECK_KERNEL void point(const kernels::Args<T>& k, const Instr&, T*, int*, int&, v3<T>* points, int& pt) {
-  const v3<T> q = Kernel(k, points[pt]);
+MARCHCHECK_KERNEL void point(const kernels::Args<T>& k, const Instr&, T*, int*, int&, vec3<T>* points, int& pt) {
+  const vec3<T> q = Kernel(k, points[pt]);
   points[++pt] = q;
 }
 
 template <class T, bool WithMaterial>
-inline void step(const Tape& tape, const Instr& in, T* values, int* materials, int& vt, v3<T>* points, int& pt) {
+inline void step(const Tape& tape, const Instr& in, T* values, int* materials, int& vt, vec3<T>* points, int& pt) {
   const kernels::Args<T> k = tape.args<T>(in);
   switch (in.op) {
 #define MARCHCHECK_STEP(name, shape)                                                         \
@@ -113,12 +115,12 @@ inline void step(const Tape& tape, const Instr& in, T* values, int* materials, i
 }
 
 template <class T, bool WithMaterial>
-inline Sample<T> run(const Tape& tape, v3<T> p0) {
+inline Sample<T> run(const Tape& tape, vec3<T> p0) {
   T values[kMaxValueStack];
   values[0] = T(0);  // every tape writes it; GCC cannot see that through the kernels' switch
   int materials[WithMaterial ? kMaxValueStack : 1];
   materials[0] = -1;
-  v3<T> points[kMaxPointStack];
+  vec3<T> points[kMaxPointStack];
   int vt = -1, pt = 0;
   points[0] = p0;
   for (const Instr& in : tape.code) step<T, WithMaterial>(tape, in, values, materials, vt, points, pt);

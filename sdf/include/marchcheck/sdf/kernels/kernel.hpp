@@ -4,10 +4,10 @@
 //
 // Each family header lists its kernels in an X-macro, X(name, shape), that makes the TapeOp enum and the
 // dispatch of both evaluators: a kernel is written once, in its family, and listed once. The shapes:
-//   source: T name(const Args<T>&, v3<T> p)              pushes a value (a primitive)
-//   value:  T name(const Args<T>&, T d, v3<T> p)         replaces the top value
+//   source: T name(const Args<T>&, vec3<T> p)              pushes a value (a primitive)
+//   value:  T name(const Args<T>&, T d, vec3<T> p)         replaces the top value
 //   binary: Combined<T> name(const Args<T>&, T a, T b)   pops b and replaces a (b_decides: b's material wins)
-//   point:  v3<T> name(const Args<T>&, v3<T> p)          pushes a transformed point (popped by p_pop)
+//   point:  vec3<T> name(const Args<T>&, vec3<T> p)          pushes a transformed point (popped by p_pop)
 #pragma once
 
 #include "marchcheck/sdf/scalar.hpp"
@@ -27,10 +27,8 @@ class MeshDistance;
 
 namespace kernels {
 
-template <class T>
-using v3 = glm::vec<3, T>;
-template <class T>
-using v2 = glm::vec<2, T>;
+using smath::vec2;
+using smath::vec3;
 
 // The constants of one instruction: k(i) in the evaluation type, raw(i) as stored (counts, flags), and the
 // meshes for the mesh kernel. Float reads the constants rounded once at compile time, never converting.

@@ -12,17 +12,17 @@ namespace marchcheck::sdf::kernels {
 using namespace smath;
 
 template <class T>
-MARCHCHECK_KERNEL T round_(const Args<T>& k, T d, v3<T>) {
+MARCHCHECK_KERNEL T round_(const Args<T>& k, T d, vec3<T>) {
   return d - k(0);
 }
 
 template <class T>
-MARCHCHECK_KERNEL T onion(const Args<T>& k, T d, v3<T>) {
+MARCHCHECK_KERNEL T onion(const Args<T>& k, T d, vec3<T>) {
   return abs(d) - k(0);
 }
 
 template <class T>
-MARCHCHECK_KERNEL T displace(const Args<T>& k, T d, v3<T> p) {
+MARCHCHECK_KERNEL T displace(const Args<T>& k, T d, vec3<T> p) {
   const T f = k(1);
   return d + k(0) * sin(f * p.x) * sin(f * p.y) * sin(f * p.z);
 }
@@ -30,13 +30,13 @@ MARCHCHECK_KERNEL T displace(const Args<T>& k, T d, v3<T> p) {
 // Trilinear interpolation of the child's samples; outside the grid, the nearest grid point's value plus the
 // distance to it. k: counts, lowest corner, cell, then the samples (x fastest).
 template <class T>
-MARCHCHECK_KERNEL T grid(const Args<T>& k, v3<T> p) {
+MARCHCHECK_KERNEL T grid(const Args<T>& k, vec3<T> p) {
   using S = decltype(value_of(T{}));
   int n[3], cell0[3];
-  v3<T> f;
+  vec3<T> f;
   const T cell = k(6);
-  const v3<T> g = (p - v3<T>(k(3), k(4), k(5))) / cell;  // in cells from the lowest sample
-  v3<T> c;
+  const vec3<T> g = (p - vec3<T>(k(3), k(4), k(5))) / cell;  // in cells from the lowest sample
+  vec3<T> c;
   for (int i = 0; i < 3; ++i) {
     n[i] = static_cast<int>(k.raw(static_cast<std::uint32_t>(i)));
     c[i] = clamp(g[i], T(0), T(static_cast<S>(n[i] - 1)));

@@ -17,119 +17,120 @@ namespace marchcheck::sdf::kernels {
 using namespace smath;
 
 template <class T>
-MARCHCHECK_KERNEL T box_distance(v3<T> q) {
+MARCHCHECK_KERNEL T box_distance(vec3<T> q) {
   return length(max(q, T(0))) + min(max_component(q), T(0));
 }
 
 template <class T>
-MARCHCHECK_KERNEL T sphere(const Args<T>& k, v3<T> p) {
+MARCHCHECK_KERNEL T sphere(const Args<T>& k, vec3<T> p) {
   return length(p) - k(0);
 }
 
 template <class T>
-MARCHCHECK_KERNEL T plane(const Args<T>& k, v3<T> p) {  // k: the unit normal, then the offset
+MARCHCHECK_KERNEL T plane(const Args<T>& k, vec3<T> p) {  // k: the unit normal, then the offset
   return p.x * k(0) + p.y * k(1) + p.z * k(2) + k(3);
 }
 
 template <class T>
-MARCHCHECK_KERNEL T box(const Args<T>& k, v3<T> p) {
-  return box_distance(abs(p) - v3<T>(k(0), k(1), k(2)));
+MARCHCHECK_KERNEL T box(const Args<T>& k, vec3<T> p) {
+  return box_distance(abs(p) - vec3<T>(k(0), k(1), k(2)));
 }
 
 template <class T>
-MARCHCHECK_KERNEL T round_box(const Args<T>& k, v3<T> p) {
+MARCHCHECK_KERNEL T round_box(const Args<T>& k, vec3<T> p) {
   const T r = k(3);
-  return box_distance(abs(p) - v3<T>(k(0), k(1), k(2)) + v3<T>(r)) - r;
+  return box_distance(abs(p) - vec3<T>(k(0), k(1), k(2)) + vec3<T>(r)) - r;
 }
 
 template <class T>
-MARCHCHECK_KERNEL T box_frame(const Args<T>& k, v3<T> p) {
-  const v3<T> b(k(0), k(1), k(2));
+MARCHCHECK_KERNEL T box_frame(const Args<T>& k, vec3<T> p) {
+  const vec3<T> b(k(0), k(1), k(2));
   const T e = k(3) * T(0.5);  // iq's e: the bars span [b - 2e, b], so e is half the thickness
-  const v3<T> q = abs(p) - b;
-  const v3<T> w = abs(q + v3<T>(e)) - v3<T>(e);
-  return min(min(box_distance(v3<T>(q.x, w.y, w.z)), box_distance(v3<T>(w.x, q.y, w.z))),
-             box_distance(v3<T>(w.x, w.y, q.z)));
+  const vec3<T> q = abs(p) - b;
+  const vec3<T> w = abs(q + vec3<T>(e)) - vec3<T>(e);
+  return min(min(box_distance(vec3<T>(q.x, w.y, w.z)), box_distance(vec3<T>(w.x, q.y, w.z))),
+             box_distance(vec3<T>(w.x, w.y, q.z)));
 }
 
 template <class T>
-MARCHCHECK_KERNEL T torus(const Args<T>& k, v3<T> p) {
-  const v2<T> q(length(v2<T>(p.x, p.z)) - k(0), p.y);
+MARCHCHECK_KERNEL T torus(const Args<T>& k, vec3<T> p) {
+  const vec2<T> q(length(vec2<T>(p.x, p.z)) - k(0), p.y);
   return length(q) - k(1);
 }
 
 template <class T>
-MARCHCHECK_KERNEL T capped_torus(const Args<T>& k, v3<T> p) {  // k: sin and cos of the half-angle, major, minor
+MARCHCHECK_KERNEL T capped_torus(const Args<T>& k, vec3<T> p) {  // k: sin and cos of the half-angle, major, minor
   const T sx = k(0), cy = k(1), ra = k(2), rb = k(3);
   p.x = abs(p.x);
-  const T kk = cy * p.x > sx * p.y ? p.x * sx + p.y * cy : length(v2<T>(p.x, p.y));
+  const T kk = cy * p.x > sx * p.y ? p.x * sx + p.y * cy : length(vec2<T>(p.x, p.y));
   return sqrt(max(dot(p, p) + ra * ra - T(2) * ra * kk, T(0))) - rb;
 }
 
 template <class T>
-MARCHCHECK_KERNEL T capsule(const Args<T>& k, v3<T> p) {
-  const v3<T> pa = p - v3<T>(k(0), k(1), k(2));
-  const v3<T> ba(k(3), k(4), k(5));                   // b - a, precomputed
+MARCHCHECK_KERNEL T capsule(const Args<T>& k, vec3<T> p) {
+  const vec3<T> pa = p - vec3<T>(k(0), k(1), k(2));
+  const vec3<T> ba(k(3), k(4), k(5));                   // b - a, precomputed
   const T h = clamp(dot(pa, ba) * k(6), T(0), T(1));  // k(6) = 1 / dot(ba, ba)
   return length(pa - ba * h) - k(7);
 }
 
 template <class T>
-MARCHCHECK_KERNEL T capped_cylinder(const Args<T>& k, v3<T> p) {
-  const v2<T> d = abs(v2<T>(length(v2<T>(p.x, p.z)), p.y)) - v2<T>(k(1), k(0));
+MARCHCHECK_KERNEL T capped_cylinder(const Args<T>& k, vec3<T> p) {
+  const vec2<T> d = abs(vec2<T>(length(vec2<T>(p.x, p.z)), p.y)) - vec2<T>(k(1), k(0));
   return min(max(d.x, d.y), T(0)) + length(max(d, T(0)));
 }
 
 template <class T>
-MARCHCHECK_KERNEL T cone(const Args<T>& k, v3<T> p) {
-  const v2<T> q(k(0), k(1));  // the base rim in (radius, height): h (tan a, -1)
-  const v2<T> w(length(v2<T>(p.x, p.z)), p.y);
-  const v2<T> ea = w - q * clamp(dot(w, q) / dot(q, q), T(0), T(1));
-  const v2<T> eb = w - q * v2<T>(clamp(w.x / q.x, T(0), T(1)), T(1));
+MARCHCHECK_KERNEL T cone(const Args<T>& k, vec3<T> p) {
+  const vec2<T> q(k(0), k(1));  // the base rim in (radius, height): h (tan a, -1)
+  const vec2<T> w(length(vec2<T>(p.x, p.z)), p.y);
+  const vec2<T> ea = w - q * clamp(dot(w, q) / dot(q, q), T(0), T(1));
+  const vec2<T> eb = w - q * vec2<T>(clamp(w.x / q.x, T(0), T(1)), T(1));
   const T d = min(dot(ea, ea), dot(eb, eb));
   const T s = max(-(w.x * q.y - w.y * q.x), -(w.y - q.y));  // sign(q.y) = -1
   return sqrt(d) * sign(s);
 }
 
 template <class T>
-MARCHCHECK_KERNEL T ellipsoid(const Args<T>& k, v3<T> p) {
-  const v3<T> r(k(0), k(1), k(2));
-  const T k0 = length(v3<T>(p.x / r.x, p.y / r.y, p.z / r.z));
+MARCHCHECK_KERNEL T ellipsoid(const Args<T>& k, vec3<T> p) {
+  const vec3<T> r(k(0), k(1), k(2));
+  const T k0 = length(vec3<T>(p.x / r.x, p.y / r.y, p.z / r.z));
   const T smallest = min(r.x, min(r.y, r.z));
   // Inside, k0 (k0 - 1) / k1 overestimates badly near the centre; (k0 - 1) min(r) is 1-Lipschitz and
   // vanishes on the surface, hence a bound.
   if (value_of(k0) < 1) return (k0 - T(1)) * smallest;
-  const T k1 = length(v3<T>(p.x / (r.x * r.x), p.y / (r.y * r.y), p.z / (r.z * r.z)));
+  const T k1 = length(vec3<T>(p.x / (r.x * r.x), p.y / (r.y * r.y), p.z / (r.z * r.z)));
   return k0 * (k0 - T(1)) / k1;
 }
 
 template <class T>
-MARCHCHECK_KERNEL T octahedron(const Args<T>& k, v3<T> p) {
+MARCHCHECK_KERNEL T octahedron(const Args<T>& k, vec3<T> p) {
   const T s = k(0);
   p = abs(p);
   const T m = p.x + p.y + p.z - s;
-  v3<T> q;
+  vec3<T> q;
   if (T(3) * p.x < m) {
     q = p;
   } else if (T(3) * p.y < m) {
-    q = v3<T>(p.y, p.z, p.x);
+    q = vec3<T>(p.y, p.z, p.x);
   } else if (T(3) * p.z < m) {
-    q = v3<T>(p.z, p.x, p.y);
+    q = vec3<T>(p.z, p.x, p.y);
   } else {
     return m * literal<T>(0.57735026918962576);
   }
   const T kk = clamp(T(0.5) * (q.z - q.y + s), T(0), s);
-  return length(v3<T>(q.x, q.y - s + kk, q.z - kk));
+  return length(vec3<T>(q.x, q.y - s + kk, q.z - kk));
 }
 
 template <class T>
-MARCHCHECK_KERNEL T octahedron_bound(const Args<T>& k, v3<T> p) {
+MARCHCHECK_KERNEL T octahedron_bound(const Args<T>& k, vec3<T> p) {
   p = abs(p);
   return (p.x + p.y + p.z - k(0)) * literal<T>(0.57735026918962576);
 }
 
+// k: the number of pairs, then [amplitude, frequency] pairs.
 template <class T>
-MARCHCHECK_KERNEL T heightfield(const Args<T>& k, v3<T> p) {  // k: the number of pairs, then [amplitude, frequency] pairs
+MARCHCHECK_KERNEL T heightfield(const Args<T>& k, vec3<T> p) {
   const auto pairs = static_cast<std::uint32_t>(k.raw(0));
   T h(0);
   for (std::uint32_t i = 0; i < pairs; ++i) {
@@ -140,11 +141,11 @@ MARCHCHECK_KERNEL T heightfield(const Args<T>& k, v3<T> p) {  // k: the number o
 }
 
 template <class T>
-MARCHCHECK_KERNEL T mandelbulb(const Args<T>& k, v3<T> p) {  // k: power, iterations, bailout
+MARCHCHECK_KERNEL T mandelbulb(const Args<T>& k, vec3<T> p) {  // k: power, iterations, bailout
   const T power = k(0);
   const auto iterations = static_cast<int>(k.raw(1));
   const T bailout2 = k(2) * k(2);
-  v3<T> w = p;
+  vec3<T> w = p;
   T m = dot(w, w);
   // Far out the estimate (about 0.5 r log r) overflows in r^power and exceeds the distance to the ball that
   // holds the set (radius 2^(1 / (power - 1)): beyond it |w| grows every iteration). From r = 2 on the field
@@ -162,7 +163,7 @@ MARCHCHECK_KERNEL T mandelbulb(const Args<T>& k, v3<T> p) {  // k: power, iterat
     const T b = power * acos(clamp(w.y / r, T(-1), T(1)));
     const T az = power * atan2(w.x, w.z);
     const T rp = pow(r, value_of(power));
-    w = p + v3<T>(sin(b) * sin(az), cos(b), sin(b) * cos(az)) * rp;
+    w = p + vec3<T>(sin(b) * sin(az), cos(b), sin(b) * cos(az)) * rp;
     m = dot(w, w);
     if (m > bailout2) break;
   }
@@ -172,7 +173,7 @@ MARCHCHECK_KERNEL T mandelbulb(const Args<T>& k, v3<T> p) {  // k: power, iterat
 }
 
 template <class T>
-MARCHCHECK_KERNEL T mesh(const Args<T>& k, v3<T> p) {  // at: the index of the mesh, not of constants
+MARCHCHECK_KERNEL T mesh(const Args<T>& k, vec3<T> p) {  // at: the index of the mesh, not of constants
   return k.meshes[k.at]->signed_distance(p);
 }
 
