@@ -1,8 +1,10 @@
 // SDF evaluations per second: lee-flat written by hand in C++, as a compiled tape, and as a tape compiled from
 // the scene's JSON text; then every built-in scene's tape, one point at a time (Tape) and in batches (Batch), on
 // one thread and on all (tasks of 256 points under oneTBB, as the renderer's tiles). Compare "evals/s" of
-// BM_LeeFlatCpp and BM_LeeFlatTape to read what the tape interpreter costs over hand-written code.
+// BM_LeeFlatCpp and BM_LeeFlatTape to read what the tape interpreter costs over hand-written code, and
+// BM_LeeFlatGlsl beside BM_LeeFlatTape for what a field imported from GLSL costs.
 #include "marchcheck/sdf/builtin_scenes.hpp"
+#include "marchcheck/sdf/glsl_field.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/sdf/tape.hpp"
 
@@ -85,9 +87,23 @@ void BM_LeeFlatJsonTape(benchmark::State& state) {
   run_evals(state, [&](glm::vec3 p) { return sdf::evaluate<float>(tape, p); });
 }
 
+// The same field written in GLSL as Shadertoy code writes it and evaluated by the SPIR-V evaluator: the
+// imported field's cost beside the tape's (BM_LeeFlatTape) on the same points.
+void BM_LeeFlatGlsl(benchmark::State& state) {
+  sdf::Node n = sdf::make(sdf::Op::glsl);
+  sdf::GlslSpec spec;
+  spec.code = "float map(vec3 p) { return min(length(p - vec3(0.0, 1.2, 0.0)) - 1.0, p.y); }";
+  spec.kind = sdf::Kind::bound;
+  spec.measured = false;
+  n.glsl = std::make_shared<const sdf::GlslField>(spec, spec.code, "lee_flat.glsl");
+  const sdf::Tape tape = sdf::compile(n);
+  run_evals(state, [&](glm::vec3 p) { return sdf::evaluate<float>(tape, p); });
+}
+
 BENCHMARK(BM_LeeFlatCpp);
 BENCHMARK(BM_LeeFlatTape);
 BENCHMARK(BM_LeeFlatJsonTape);
+BENCHMARK(BM_LeeFlatGlsl);
 
 sdf::Tape scene_tape(const std::string& name) {
   const sdf::Scene scene = sdf::builtin_scene(name);

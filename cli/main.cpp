@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   validate_cmd->add_option("scenes", validate.scenes, "Built-in scene names, scene files, or all")->required();
   validate_cmd->add_option("--json", validate.json, "Write the metrics and checks as JSON");
   validate_cmd->add_option("--set", validate.sets, "Override a scene or marching parameter KEY=VALUE (repeatable)");
+  validate_cmd->add_option("--function", validate.function, "A .glsl file's field function (default map)");
 
   StabilityCommand stability;
   auto* stability_cmd = app.add_subcommand("stability", "The hard-case battery; exit 0 all stable, 1 a case is not");

@@ -6,6 +6,7 @@
 #include "marchcheck/reports/results_io.hpp"
 #include "marchcheck/reports/report.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
+#include "marchcheck/sdf/glsl_field.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/validation/stability.hpp"
 #include "marchcheck/validation/validate.hpp"
@@ -66,6 +67,27 @@ sdf::Scene load_scene(const std::string& name_or_path, const std::vector<std::st
   apply_sets(scene, sets);
   sdf::compile(scene.root, scene.time);
   return scene;
+}
+
+// A GLSL file alone is validated as the GPU runs it (float) and as its reference (double), unless --set chooses.
+std::vector<sdf::Scene> glsl_scenes(const std::string& path, const std::string& function,
+                                    const std::vector<std::string>& sets) {
+  const sdf::Scene base = sdf::glsl_scene(path, function);
+  const bool chosen =
+      std::any_of(sets.begin(), sets.end(), [](const std::string& s) { return s.starts_with("precision="); });
+  std::vector<sdf::Scene> out;
+  for (const char* precision : {"float", "double"}) {
+    if (chosen && precision != std::string("float")) break;
+    sdf::Scene s = base;
+    if (!chosen) {
+      sdf::apply_setting(s, "precision", precision);
+      s.name += std::string(" (") + precision + ")";
+    }
+    apply_sets(s, sets);
+    sdf::compile(s.root, s.time);
+    out.push_back(std::move(s));
+  }
+  return out;
 }
 
 int run_scenes(const ScenesCommand& cmd, std::ostream& out, std::ostream& err) {
@@ -145,6 +167,10 @@ int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& er
   std::vector<sdf::Scene> scenes;
   try {
     for (const auto& name : cmd.scenes) {
+      if (name.ends_with(".glsl")) {
+        for (sdf::Scene& s : glsl_scenes(name, cmd.function, cmd.sets)) scenes.push_back(std::move(s));
+        continue;
+      }
       const auto names = name == "all" ? sdf::builtin_scene_names() : std::vector<std::string>{name};
       for (const auto& n : names) {
         scenes.push_back(load_scene(n, cmd.sets));

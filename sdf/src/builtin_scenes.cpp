@@ -1,5 +1,6 @@
 #include "marchcheck/sdf/builtin_scenes.hpp"
 
+#include "marchcheck/sdf/glsl_field.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 
 #include "marchcheck/meshes/procedural.hpp"
@@ -529,6 +530,7 @@ Scene builtin_scene(const std::string& name, const MeshLoader& loader) {
 
 Scene resolve_scene(const std::string& name_or_path, const MeshLoader& loader) {
   if (name_or_path.size() > 5 && name_or_path.ends_with(".json")) return load_scene_file(name_or_path, loader);
+  if (name_or_path.size() > 5 && name_or_path.ends_with(".glsl")) return glsl_scene(name_or_path);
   return builtin_scene(name_or_path, loader);
 }
 

@@ -148,10 +148,7 @@ Node example(Op op) {
       n.children.push_back(i == 0 ? translate({0.2, 0.1, 0}, box({0.5, 0.4, 0.3})) : sphere(0.6));
     }
   }
-  if (!r.example_source.empty()) {
-    n.source = r.example_source;
-    n.mesh = std::make_shared<const MeshDistance>(meshes::load_mesh_source(n.source));
-  }
+  if (r.example_attach) r.example_attach(n);
   return n;
 }
 

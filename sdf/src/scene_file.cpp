@@ -1,5 +1,6 @@
 #include "marchcheck/sdf/scene_file.hpp"
 
+#include "marchcheck/sdf/glsl_field.hpp"
 #include "marchcheck/sdf/mesh_distance.hpp"
 
 #include <nlohmann/json.hpp>
@@ -339,6 +340,22 @@ json parse_setting_value(std::string_view text) {
 
 // ---------------------------------------------------------------- nodes
 
+void glsl_to_json(const GlslSpec& spec, json& j) {
+  if (spec.code.empty()) {
+    j["source"] = spec.source;
+  } else {
+    j["code"] = spec.code;
+  }
+  j["function"] = spec.function;
+  if (!spec.uniforms.empty()) {
+    json u = json::object();
+    for (const auto& [name, value] : spec.uniforms) u[name] = value.size() == 1 ? json(value[0]) : json(value);
+    j["uniforms"] = u;
+  }
+  j["kind"] = spec.measured ? "unknown" : std::string(to_string(spec.kind));
+  if (!spec.measured && spec.kind == Kind::lipschitz) j["lipschitz"] = spec.lipschitz;
+}
+
 json node_to_json(const Node& n, const Scene& scene) {
   const auto& info = op_info(n.op);
   json j;
@@ -352,6 +369,7 @@ json node_to_json(const Node& n, const Scene& scene) {
     }
   }
   if (n.op == Op::mesh) j["mesh"] = n.source;
+  if (n.op == Op::glsl) glsl_to_json(n.glsl->spec(), j);
   if (n.material >= 0) j["material"] = scene.materials.at(static_cast<size_t>(n.material)).name;
   if (info.max_children == 1) {
     j["child"] = node_to_json(n.children[0], scene);
@@ -369,6 +387,67 @@ std::string resolve_mesh_source(const std::string& source, const std::string& sc
   if (source.starts_with("procedural:") || p.is_absolute()) return source;
   // absolute() first: a bare "scene.json" has no parent path, and absolute("") is an error.
   return (std::filesystem::absolute(scene_path).parent_path() / p).lexically_normal().string();
+}
+
+// A glsl node's field: its source file (beside the scene file) or inline code, compiled here.
+std::shared_ptr<const GlslField> glsl_from_json(const json& j, const std::string& path, const std::string& scene_path,
+                                                std::vector<std::string>& allowed) {
+  for (const char* key : {"source", "code", "function", "uniforms", "kind", "lipschitz"}) allowed.push_back(key);
+  GlslSpec spec;
+  if (j.contains("source") == j.contains("code"))
+    fail(path, "a glsl node needs \"source\" (a GLSL file) or \"code\" (the GLSL text), one of them");
+  std::string text, file;
+  if (j.contains("source")) {
+    if (!j["source"].is_string() || j["source"].get<std::string>().empty()) fail(path + "/source", "expected a file path");
+    spec.source = resolve_mesh_source(j["source"].get<std::string>(), scene_path);
+    std::ifstream in(spec.source, std::ios::binary);
+    if (!in) fail(path + "/source", "cannot read '" + spec.source + "'");
+    std::ostringstream all;
+    all << in.rdbuf();
+    text = all.str();
+    file = spec.source;
+  } else {
+    if (!j["code"].is_string()) fail(path + "/code", "expected the GLSL text as a string");
+    text = spec.code = j["code"].get<std::string>();
+    file = path + "/code";
+  }
+  if (j.contains("function")) {
+    if (!j["function"].is_string() || j["function"].get<std::string>().empty())
+      fail(path + "/function", "expected the name of the field's function");
+    spec.function = j["function"].get<std::string>();
+  }
+  if (j.contains("uniforms")) {
+    if (!j["uniforms"].is_object()) fail(path + "/uniforms", "expected an object of uniform names and values");
+    for (const auto& [name, value] : j["uniforms"].items()) {
+      const std::string where = path + "/uniforms/" + name;
+      std::vector<double>& v = spec.uniforms[name];
+      if (value.is_array()) {
+        for (size_t i = 0; i < value.size(); ++i) v.push_back(number(value[i], where + "/" + std::to_string(i)));
+      } else {
+        v.push_back(number(value, where));
+      }
+    }
+  }
+  const std::string kind = j.contains("kind") && j["kind"].is_string() ? j["kind"].get<std::string>()
+                           : j.contains("lipschitz")                   ? "lipschitz"
+                                                                       : "unknown";
+  if (j.contains("kind") && !j["kind"].is_string()) fail(path + "/kind", "expected exact, bound, lipschitz or unknown");
+  spec.measured = kind == "unknown";
+  if (kind == "exact") spec.kind = Kind::exact;
+  else if (kind == "bound") spec.kind = Kind::bound;
+  else if (kind == "lipschitz") spec.kind = Kind::lipschitz;
+  else if (kind != "unknown") fail(path + "/kind", "expected exact, bound, lipschitz or unknown, got '" + kind + "'");
+  if (kind == "lipschitz") {
+    if (!j.contains("lipschitz")) fail(path, "a glsl node of kind lipschitz needs \"lipschitz\" (its constant)");
+    spec.lipschitz = number(j["lipschitz"], path + "/lipschitz", 0, 1e300, true);
+  } else if (j.contains("lipschitz")) {
+    fail(path + "/lipschitz", "only a field of kind lipschitz states its constant");
+  }
+  try {
+    return std::make_shared<const GlslField>(spec, text, file);
+  } catch (const GlslError& e) {
+    fail(path, e.what());
+  }
 }
 
 Node node_from_json(const json& j, const std::string& path, const Scene& scene, const std::string& scene_path,
@@ -415,6 +494,7 @@ Node node_from_json(const json& j, const std::string& path, const Scene& scene, 
       fail(path + "/mesh", "expected a mesh file path or a procedural:NAME(ARGS) source");
     n.source = resolve_mesh_source(j["mesh"].get<std::string>(), scene_path);
   }
+  if (n.op == Op::glsl) n.glsl = glsl_from_json(j, path, scene_path, allowed);
   if (j.contains("material")) {
     if (!j["material"].is_string()) fail(path + "/material", "expected a material name");
     n.material = find_material(scene, j["material"].get<std::string>());

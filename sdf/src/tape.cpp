@@ -30,6 +30,11 @@ std::uint32_t Compiler::mesh(std::shared_ptr<const MeshDistance> mesh) {
   return static_cast<std::uint32_t>(tape_.meshes.size() - 1);
 }
 
+std::uint32_t Compiler::glsl(std::shared_ptr<const GlslField> field) {
+  tape_.glsl_fields.push_back(std::move(field));
+  return static_cast<std::uint32_t>(tape_.glsl_fields.size() - 1);
+}
+
 void Compiler::value_pushed() {
   ++values_;
   tape_.value_depth = std::max(tape_.value_depth, values_);

@@ -1,6 +1,8 @@
 // The 3D primitives (kernels: marchcheck/sdf/kernels/primitives.hpp).
 #include "rules.hpp"
 
+#include "marchcheck/meshes/io.hpp"
+#include "marchcheck/sdf/glsl_field.hpp"
 #include "marchcheck/sdf/mesh_distance.hpp"
 
 #include <cmath>
@@ -13,6 +15,17 @@ using P = ParamSpec;
 constexpr double kInf = 1e300;
 
 FieldInfo exact(Box3 bounds) { return {Kind::exact, 1, bounds, "closed form"}; }
+
+// A GLSL field is what its node declares, or, declared unknown, Lipschitz with the slope measured at load.
+FieldInfo glsl_info(const GlslSpec& spec) {
+  const std::string name = spec.code.empty() ? spec.source : "inline GLSL";
+  if (spec.measured)
+    return {Kind::lipschitz, spec.lipschitz, Box3{},
+            name + ": kind not declared; Lipschitz constant " + std::to_string(spec.lipschitz) +
+                " measured over [-4, 4]^3 by finite differences (a lower bound)"};
+  return {spec.kind, spec.kind == Kind::lipschitz ? spec.lipschitz : 1.0, Box3{},
+          name + ": declared " + std::string(to_string(spec.kind))};
+}
 
 // The solids with a closed form.
 std::vector<OpRules> solid_rules() {
@@ -167,7 +180,26 @@ std::vector<OpRules> field_rules() {
          return n.mesh ? std::string()
                        : "/mesh: '" + n.source + "' is not loaded (scenes with meshes need a mesh loader)";
        },
-       "procedural:torus(0.7,0.25,48,24)"},
+       [](Node& n) {
+         n.source = "procedural:torus(0.7,0.25,48,24)";
+         n.mesh = std::make_shared<const MeshDistance>(meshes::load_mesh_source(n.source));
+       }},
+      {{Op::glsl, "glsl", 3, 0, 0, 0, {},
+        "a field written in GLSL (\"source\": a file, or \"code\"; \"function\": its name, map by default; "
+        "\"uniforms\"; \"kind\": exact, bound, lipschitz with \"lipschitz\": L, or unknown: measured)"},
+       [](const Node& n, auto, double) { return n.glsl ? glsl_info(n.glsl->spec()) : FieldInfo{}; },
+       [](Compiler& c, const Node& n) { c.primitive(TapeOp::glsl, c.glsl(n.glsl), n); },
+       {},
+       [](const Node& n) { return n.glsl ? std::string() : std::string("/source: the GLSL field is not compiled"); },
+       [](Node& n) {
+         GlslSpec spec;
+         spec.code =
+             "float sdTorus(vec3 p, vec2 t) { vec2 q = vec2(length(p.xz) - t.x, p.y); return length(q) - t.y; }\n"
+             "float map(vec3 p) { p.xy *= mat2(0.8, 0.6, -0.6, 0.8); return sdTorus(p, vec2(0.7, 0.25)); }\n";
+         spec.kind = Kind::exact;
+         spec.measured = false;
+         n.glsl = std::make_shared<const GlslField>(spec, spec.code, "example.glsl");
+       }},
   };
 }
 

@@ -29,7 +29,7 @@ struct OpRules {
   std::vector<std::pair<std::string_view, std::vector<double>>> example;
   // "" when the node is valid beyond its shape and ranges, else the problem, after its path and ": ".
   std::string (*check)(const Node& node) = nullptr;
-  std::string_view example_source = {};  // a mesh node's example: what it loads
+  void (*example_attach)(Node& n) = nullptr;  // what a mesh or glsl example loads
   std::vector<Node> (*example_children)() = nullptr;  // instead of the usual ones
 };
 
@@ -57,6 +57,7 @@ class Compiler {
   // A primitive's instruction: pushes a value that carries the node's material.
   void primitive(TapeOp op, std::uint32_t arg, const Node& n);
   std::uint32_t mesh(std::shared_ptr<const MeshDistance> mesh);
+  std::uint32_t glsl(std::shared_ptr<const GlslField> field);
   // The child evaluated at the point the instruction pushes, then that point popped.
   void point_op(TapeOp op, std::uint32_t arg, const Node& child);
   // The children folded left by a binary instruction.

@@ -34,9 +34,10 @@ struct RenderCommand {
 int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err);
 
 struct ValidateCommand {
-  std::vector<std::string> scenes;  // names or files; "all" = every built-in
+  std::vector<std::string> scenes;  // names or files (.json scenes, .glsl fields); "all" = every built-in
   std::optional<std::string> json;
   std::vector<std::string> sets;
+  std::string function = "map";  // a .glsl file's field function
 };
 int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& err);
 

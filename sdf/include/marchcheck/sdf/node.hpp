@@ -29,6 +29,7 @@ enum class Op : unsigned char {
   heightfield,
   mandelbulb,
   mesh,
+  glsl,  // a field written in GLSL (marchcheck/sdf/glsl_field.hpp)
   // 2D shapes (children of revolve and extrude)
   circle,
   rect,
@@ -101,6 +102,7 @@ const OpInfo* find_op(std::string_view name);
 std::vector<Op> all_ops();
 
 class MeshDistance;
+class GlslField;
 
 struct Node {
   Op op = Op::sphere;
@@ -111,6 +113,8 @@ struct Node {
   // and, once a mesh loader has read it, the triangles with their distance structure (immutable, shared by copies).
   std::string source;
   std::shared_ptr<const MeshDistance> mesh;
+  // Glsl nodes: the compiled field, with what the node says of it (its source, function, uniforms, kind).
+  std::shared_ptr<const GlslField> glsl;
 
   // The values of the named parameter (aborts on a name the op does not have: a programming error).
   std::span<const double> param(std::string_view name) const;

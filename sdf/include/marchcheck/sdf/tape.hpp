@@ -31,7 +31,7 @@ enum class TapeOp : std::uint8_t {
 
 struct Instr {
   TapeOp op;
-  std::uint32_t arg = 0;  // offset into Tape::constants (the mesh kernel: index into Tape::meshes)
+  std::uint32_t arg = 0;  // offset into Tape::constants (mesh and glsl: index into Tape::meshes, glsl_fields)
   std::int32_t material = -1;
 };
 
@@ -43,12 +43,13 @@ struct Tape {
   std::vector<double> constants;
   std::vector<float> constants_f;  // the same constants rounded once, so float evaluation never converts
   std::vector<std::shared_ptr<const MeshDistance>> meshes;
+  std::vector<std::shared_ptr<const GlslField>> glsl_fields;
   int value_depth = 0;
   int point_depth = 0;
 
   template <class T>
   kernels::Args<T> args(const Instr& in) const {
-    return {constants.data(), constants_f.data(), meshes.data(), in.arg};
+    return {constants.data(), constants_f.data(), meshes.data(), glsl_fields.data(), in.arg};
   }
 };
 

@@ -24,6 +24,7 @@
 namespace marchcheck::sdf {
 
 class MeshDistance;
+class GlslField;
 
 namespace kernels {
 
@@ -31,12 +32,13 @@ using smath::vec2;
 using smath::vec3;
 
 // The constants of one instruction: k(i) in the evaluation type, raw(i) as stored (counts, flags), and the
-// meshes for the mesh kernel. Float reads the constants rounded once at compile time, never converting.
+// meshes and GLSL fields for their kernels. Float reads the constants rounded once at compile time, never converting.
 template <class T>
 struct Args {
   const double* constants;
   const float* constants_f;
   const std::shared_ptr<const MeshDistance>* meshes;
+  const std::shared_ptr<const GlslField>* glsl_fields;
   std::uint32_t at;
 
   T operator()(std::uint32_t i) const {

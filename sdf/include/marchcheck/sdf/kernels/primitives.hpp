@@ -1,6 +1,7 @@
 // Kernels of the 3D primitives (their rules: sdf/src/ops/primitives.cpp).
 #pragma once
 
+#include "marchcheck/sdf/glsl_field.hpp"
 #include "marchcheck/sdf/kernels/kernel.hpp"
 #include "marchcheck/sdf/mesh_distance.hpp"
 #include "marchcheck/sdf/noise.hpp"
@@ -10,7 +11,8 @@
 #define MARCHCHECK_PRIMITIVE_KERNELS(X)                                                                       \
   X(sphere, source) X(plane, source) X(box, source) X(round_box, source) X(box_frame, source) X(torus, source) \
   X(capped_torus, source) X(capsule, source) X(capped_cylinder, source) X(cone, source) X(ellipsoid, source)   \
-  X(octahedron, source) X(octahedron_bound, source) X(heightfield, source) X(mandelbulb, source) X(mesh, source)
+  X(octahedron, source) X(octahedron_bound, source) X(heightfield, source) X(mandelbulb, source) X(mesh, source)  \
+  X(glsl, source)
 
 namespace marchcheck::sdf::kernels {
 
@@ -175,6 +177,11 @@ MARCHCHECK_KERNEL T mandelbulb(const Args<T>& k, vec3<T> p) {  // k: power, iter
 template <class T>
 MARCHCHECK_KERNEL T mesh(const Args<T>& k, vec3<T> p) {  // at: the index of the mesh, not of constants
   return k.meshes[k.at]->signed_distance(p);
+}
+
+template <class T>
+MARCHCHECK_KERNEL T glsl(const Args<T>& k, vec3<T> p) {  // at: the index of the field, not of constants
+  return k.glsl_fields[k.at]->distance(p);
 }
 
 }  // namespace marchcheck::sdf::kernels

@@ -1,0 +1,69 @@
+// A distance field written in GLSL, as people write it (Shadertoy, WebGL, Unity): its `map` function (any name)
+// compiled by Khronos' glslang and evaluated on the CPU by an evaluator of the SPIR-V, in the tape's scalars:
+// float (as a GPU computes it: IEEE, no contraction), double (the reference) and Dual (gradients).
+#pragma once
+
+#include "marchcheck/sdf/node.hpp"
+#include "marchcheck/sdf/scalar.hpp"
+#include "marchcheck/sdf/scene.hpp"
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace marchcheck::sdf {
+
+// A GLSL source that does not compile, lacks the function, or uses what the evaluator does not run: the message
+// names the file, and the line where there is one.
+struct GlslError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// What a glsl node says of its field.
+struct GlslSpec {
+  std::string source;            // the file, as the scene names it (resolved beside the scene file)
+  std::string code;              // or the source text itself, inline in the scene
+  std::string function = "map";  // float, vec2, vec3 or vec4 NAME(vec3 p): the distance is its .x
+  std::map<std::string, std::vector<double>> uniforms;  // values of the shader's uniforms (others are 0)
+  // What the field declares: exact, bound, lipschitz (with lipschitz, its constant) or unknown (measured).
+  Kind kind = Kind::lipschitz;
+  bool measured = true;  // the kind was not declared: the Lipschitz constant is measured at compile time
+  double lipschitz = 1;
+};
+
+namespace glsl {
+struct Program;
+}
+
+class GlslField {
+ public:
+  // Compiles text (the file's contents; file names it in messages). Throws GlslError.
+  GlslField(GlslSpec spec, const std::string& text, const std::string& file);
+  const GlslSpec& spec() const { return spec_; }
+  // SPIR-V instructions the evaluator runs per point, at most (loops aside).
+  std::size_t instructions() const;
+
+  // The field at p. T: float, double, Dual<float>, Dual<double>. A shader that runs past kMaxSteps instructions
+  // (a loop that does not end) or discards gives NaN; one that does so at the origin is refused when compiled.
+  template <class T>
+  T distance(glm::vec<3, T> p) const;
+
+  static constexpr std::uint64_t kMaxSteps = 1'000'000;
+
+ private:
+  bool finishes_at_origin() const;
+  bool exhausted() const;  // the last double evaluation on this thread ran out of steps
+  GlslSpec spec_;
+  std::shared_ptr<const glsl::Program> program_;
+};
+
+// The scene around a GLSL file given alone: its field (kind unknown: measured), marched in steps of f / L, a camera
+// framing the region where it is negative (found by sampling, stated in the description), a directional light
+// with hard shadows. Throws
+// GlslError or SceneError naming the file.
+Scene glsl_scene(const std::string& path, const std::string& function = "map");
+
+}  // namespace marchcheck::sdf

@@ -1,0 +1,140 @@
+// GLSL to SPIR-V by Khronos' glslang, then SPIRV-Tools passes that inline every function and turn variables into
+// SSA values, none that fold constants: the evaluator runs every operation the shader wrote, in its precision.
+#include "program.hpp"
+
+#include <glslang/Public/ResourceLimits.h>
+#include <glslang/Public/ShaderLang.h>
+#include <glslang/SPIRV/GlslangToSpv.h>
+#include <spirv-tools/optimizer.hpp>
+
+#include <algorithm>
+#include <cstdlib>
+#include <mutex>
+#include <sstream>
+
+namespace marchcheck::sdf::glsl {
+
+namespace {
+
+// Shadertoy's inputs, declared for a source that does not declare them itself.
+struct Uniform {
+  const char* name;
+  const char* declaration;
+};
+constexpr Uniform kShadertoy[] = {{"iTime", "uniform float iTime;"},
+                                  {"iFrame", "uniform int iFrame;"},
+                                  {"iResolution", "uniform vec3 iResolution;"},
+                                  {"iMouse", "uniform vec4 iMouse;"}};
+
+// The shader around the user's source: its field at the input point, the distance (a vec2/vec3/vec4 result's .x)
+// to the output. `#line 1` makes glslang's messages count the user's lines.
+std::string wrapped(const std::string& source, const std::string& function, const std::vector<bool>& declare) {
+  std::ostringstream out;
+  out << "#version 450\n";
+  for (size_t i = 0; i < std::size(kShadertoy); ++i)
+    if (declare[i]) out << kShadertoy[i].declaration << "\n";
+  out << "#line 1\n";
+  // A #version of the user's own (WebGL's "300 es") would come after ours: kept as a blank line.
+  std::istringstream in(source);
+  std::string line;
+  while (std::getline(in, line)) out << (line.rfind("#version", 0) == 0 ? "" : line) << "\n";
+  out << "layout(location = 0) in vec3 marchcheck_p;\n"
+         "layout(location = 0) out vec4 marchcheck_result;\n"
+         "float marchcheck_distance(float d) { return d; }\n"
+         "float marchcheck_distance(vec2 d) { return d.x; }\n"
+         "float marchcheck_distance(vec3 d) { return d.x; }\n"
+         "float marchcheck_distance(vec4 d) { return d.x; }\n"
+         "void main() { marchcheck_result = vec4(marchcheck_distance("
+      << function << "(marchcheck_p))); }\n";
+  return out.str();
+}
+
+// glslang's "ERROR: 0:12: 'x' : undeclared identifier" as "file:12: 'x' : undeclared identifier"; a message
+// about the lines marchcheck adds after the user's (user_lines of them) is about the field function.
+std::string messages(const std::string& log, const std::string& file, int user_lines, const std::string& function) {
+  std::istringstream in(log);
+  std::string line, out;
+  while (std::getline(in, line)) {
+    if (line.empty() || line.find("compilation terminated") != std::string::npos ||
+        line.find("compilation errors") != std::string::npos)
+      continue;
+    for (const std::string prefix : {"ERROR: 0:", "WARNING: 0:"}) {
+      if (line.rfind(prefix, 0) != 0) continue;
+      const std::string rest = line.substr(prefix.size());
+      const int number = std::atoi(rest.c_str());
+      line = number > user_lines ? file + ": no function " + function +
+                                       "(vec3) returning float, vec2, vec3 or vec4 (" +
+                                       rest.substr(rest.find(':') + 1) + ")"
+                                 : file + ":" + rest;
+    }
+    out += (out.empty() ? "" : "\n") + line;
+  }
+  return out;
+}
+
+bool parse(glslang::TShader& shader, const std::string& text) {
+  const char* strings[] = {text.c_str()};
+  shader.setStrings(strings, 1);
+  shader.setEnvInput(glslang::EShSourceGlsl, EShLangFragment, glslang::EShClientOpenGL, 450);
+  shader.setEnvClient(glslang::EShClientOpenGL, glslang::EShTargetOpenGL_450);
+  shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_0);
+  shader.setAutoMapBindings(true);  // bare `uniform float iTime;` needs a location and a binding
+  shader.setAutoMapLocations(true);
+  return shader.parse(GetDefaultResources(), 450, false, EShMsgDefault);
+}
+
+std::vector<std::uint32_t> optimised(const std::vector<std::uint32_t>& words) {
+  spvtools::Optimizer opt(SPV_ENV_UNIVERSAL_1_0);
+  opt.RegisterPass(spvtools::CreateMergeReturnPass())
+      .RegisterPass(spvtools::CreateInlineExhaustivePass())
+      .RegisterPass(spvtools::CreateEliminateDeadFunctionsPass())
+      .RegisterPass(spvtools::CreatePrivateToLocalPass())
+      .RegisterPass(spvtools::CreateScalarReplacementPass())
+      .RegisterPass(spvtools::CreateLocalAccessChainConvertPass())
+      .RegisterPass(spvtools::CreateLocalSingleBlockLoadStoreElimPass())
+      .RegisterPass(spvtools::CreateLocalSingleStoreElimPass())
+      .RegisterPass(spvtools::CreateAggressiveDCEPass())
+      .RegisterPass(spvtools::CreateSSARewritePass())
+      .RegisterPass(spvtools::CreateAggressiveDCEPass())
+      .RegisterPass(spvtools::CreateDeadBranchElimPass())
+      .RegisterPass(spvtools::CreateBlockMergePass())
+      .RegisterPass(spvtools::CreateAggressiveDCEPass());
+  std::vector<std::uint32_t> out;
+  if (!opt.Run(words.data(), words.size(), &out)) throw GlslError("internal: the SPIR-V optimiser failed");
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> compile_field(const std::string& source, const std::string& file,
+                                         const std::string& function) {
+  static std::once_flag init;
+  std::call_once(init, [] { glslang::InitializeProcess(); });
+  std::vector<bool> declare(std::size(kShadertoy), true);
+  const int user_lines = static_cast<int>(std::count(source.begin(), source.end(), '\n')) + 1;
+  for (int attempt = 0;; ++attempt) {
+    glslang::TShader shader(EShLangFragment);
+    const std::string text = wrapped(source, function, declare);
+    if (parse(shader, text)) {
+      glslang::TProgram program;
+      program.addShader(&shader);
+      if (!program.link(EShMsgDefault)) throw GlslError(messages(program.getInfoLog(), file, user_lines, function));
+      std::vector<std::uint32_t> words;
+      glslang::SpvOptions options;
+      options.disableOptimizer = true;  // ours, without constant folding
+      glslang::GlslangToSpv(*program.getIntermediate(EShLangFragment), words, &options);
+      return optimised(words);
+    }
+    const std::string log = shader.getInfoLog();
+    // The source declares a Shadertoy input itself: not ours too.
+    bool retry = false;
+    for (size_t i = 0; i < std::size(kShadertoy); ++i)
+      if (declare[i] && log.find(std::string("'") + kShadertoy[i].name + "' : redefinition") != std::string::npos) {
+        declare[i] = false;
+        retry = true;
+      }
+    if (!retry || attempt > 4) throw GlslError(messages(log, file, user_lines, function));
+  }
+}
+
+}  // namespace marchcheck::sdf::glsl

@@ -1,0 +1,75 @@
+// The scene around a GLSL file given alone (`marchcheck validate my.glsl`): its field, and a camera framing the
+// region where the field is negative, found by sampling.
+#include "marchcheck/sdf/glsl_field.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+
+namespace marchcheck::sdf {
+
+namespace {
+
+// The box of the grid points (48 per side) where f < 0, in the first of [-2, 2]^3, [-8, 8]^3, ... [-512, 512]^3
+// that has some and is not negative everywhere; empty when none has.
+std::optional<Box3> negative_region(const GlslField& field) {
+  constexpr int kSide = 48;
+  for (double half = 2; half <= 512; half *= 4) {
+    Box3 box{glm::dvec3(INFINITY), glm::dvec3(-INFINITY)};
+    int negative = 0;
+    const double cell = 2 * half / (kSide - 1);
+    for (int i = 0; i < kSide; ++i)
+      for (int j = 0; j < kSide; ++j)
+        for (int k = 0; k < kSide; ++k) {
+          const glm::dvec3 p = glm::dvec3(-half) + glm::dvec3(i, j, k) * cell;
+          if (!(field.distance(p) < 0)) continue;
+          ++negative;
+          box.lo = glm::min(box.lo, p - cell);
+          box.hi = glm::max(box.hi, p + cell);
+        }
+    if (negative > 0 && negative < kSide * kSide * kSide) return box;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+Scene glsl_scene(const std::string& path, const std::string& function) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path + ": cannot read the GLSL file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  GlslSpec spec;
+  spec.source = std::filesystem::absolute(path).lexically_normal().string();
+  spec.function = function;
+  Scene s;
+  s.name = std::filesystem::path(path).stem().string();
+  s.root = make(Op::glsl);
+  s.root.glsl = std::make_shared<const GlslField>(spec, text.str(), path);
+  s.root.source = spec.source;
+  const std::optional<Box3> region = negative_region(*s.root.glsl);
+  if (!region) throw SceneError(path + ": " + function + " is nowhere negative in [-512, 512]^3: no surface to frame");
+  // Looking at the region's centre from above and in front, at a distance that fits its bounding sphere in the
+  // vertical field of view with a margin.
+  const double radius = 0.5 * glm::length(region->size());
+  s.camera.target = region->center();
+  s.camera.position = region->center() + glm::normalize(glm::dvec3(0.6, 0.5, 1)) *
+                                             (1.3 * radius / std::tan(s.camera.fov_deg * 3.14159265358979 / 360));
+  s.march.max_dist = 4 * glm::length(s.camera.position - s.camera.target) + 2 * radius;
+  // Steps of f / L with the measured constant: a field of unknown kind is not trusted to be 1-Lipschitz.
+  s.march.marcher = Marcher::scaled;
+  Light light;
+  light.direction = glm::normalize(glm::dvec3(-0.4, -1, -0.3));
+  light.shadow = ShadowMode::hard;
+  s.lights.push_back(light);
+  std::ostringstream about;
+  about << "GLSL field " << function << " of " << path << "; camera framing the region where it is negative, ["
+        << region->lo.x << ", " << region->hi.x << "] x [" << region->lo.y << ", " << region->hi.y << "] x ["
+        << region->lo.z << ", " << region->hi.z << "], found by sampling (override with --set camera.*)";
+  s.description = about.str();
+  return s;
+}
+
+}  // namespace marchcheck::sdf
