@@ -568,8 +568,9 @@ class TileRenderer {
       return;
     }
     packet_stage(kNormal, [&] {
-      V points[kTile * kTile];
-      T eps[kTile * kTile];
+      // Zeroed: GCC without -march=native cannot see that the first count entries are written before the call.
+      V points[kTile * kTile] = {};
+      T eps[kTile * kTile] = {};
       int which[kTile * kTile];
       NormalResult<T> normals[kTile * kTile];
       int count = 0;

@@ -54,6 +54,46 @@ TEST(Glsl, SphereBoxAndTorusGiveTheBuiltinsValuesBitForBit) {
             0);
 }
 
+// GLSL's built-ins and constructs as the GLSL specification defines them, at p = (-0.25, 0.5, 2): each expression
+// against its value worked by hand (exact in double but for the transcendental ones, which are libm's: 1e-15).
+TEST(Glsl, BuiltinsAndConstructsFollowTheGlslSpecification) {
+  struct Case {
+    const char* body;  // of map(vec3 p)
+    double expected;
+  };
+  const Case cases[] = {
+      {"return mod(p.x, 1.0);", 0.75},  // x - y floor(x / y), not C's fmod (-0.25)
+      {"return fract(p.x);", 0.75},
+      {"return sign(p.x);", -1},
+      {"return clamp(p.z, 0.0, 1.0);", 1},
+      {"return mix(p.x, p.z, 0.5);", 0.875},  // x (1 - a) + y a
+      {"return smoothstep(0.0, 1.0, p.y);", 0.5},
+      {"return step(0.0, p.x) + 2.0 * step(p.x, 0.0);", 2},
+      {"return atan(p.y, p.z);", std::atan2(0.5, 2.0)},
+      {"return length(p);", std::sqrt(0.0625 + 0.25 + 4)},
+      {"return normalize(p).z;", 2 / std::sqrt(0.0625 + 0.25 + 4)},
+      {"return reflect(vec3(1.0, -1.0, 0.0), vec3(0.0, 1.0, 0.0)).y;", 1},
+      {"return cross(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0)).z;", 1},
+      {"return (mat2(1.0, 2.0, 3.0, 4.0) * vec2(1.0, p.y)).y;", 4},   // column-major: 2 + 4 p.y
+      {"return (vec2(1.0, p.y) * mat2(1.0, 2.0, 3.0, 4.0)).y;", 5},   // row vector: 3 + 4 p.y
+      {"return (mat2(1.0, 2.0, 3.0, 4.0) * mat2(p.y))[1].y;", 2},  // 0.5 times column 1, (3, 4)
+      {"return pow(2.0, 3.0) + exp2(p.z) + log2(8.0) + inversesqrt(4.0);", 8 + 4 + 3 + 0.5},
+      {"return max(p.x, p.y) + 10.0 * min(p.x, p.y);", 0.5 - 2.5},
+      {"return float(7 / int(p.z)) + 10.0 * float(-7 / int(p.z));", 3 - 30},  // truncation toward zero
+      {"return float(7 % int(p.z + 1.0)) + float(uint(7) >> 1u);", 1 + 3},
+      {"return float(floatBitsToUint(p.y) >> 23);", 126},  // 0.5's exponent field
+      {"float a[3] = float[3](1.0, 2.0, 3.0); return a[int(p.z)];", 3},
+      {"switch (int(p.z)) { case 1: return 4.0; case 2: return 5.0; default: return 1.0; }", 5},
+      {"return any(greaterThan(p, vec3(1.0))) && !all(lessThan(p, vec3(1.0))) ? 1.0 : 0.0;", 1},
+      {"float s = 0.0; int i = 0; do { s += p.y; ++i; } while (i < 4); return s;", 2},
+      {"vec4 v = vec4(p, 1.0); v.yw *= 2.0; v.x -= v.w; return v.x + 10.0 * v.y;", -2.25 + 10},
+  };
+  for (const Case& c : cases) {
+    const Tape t = glsl_tape(std::string("float map(vec3 p) { ") + c.body + " }");
+    EXPECT_NEAR(evaluate(t, glm::dvec3(-0.25, 0.5, 2)), c.expected, 1e-15) << c.body;
+  }
+}
+
 // The comparison can fail: the sphere 1 float ulp larger (0.75 + 2^-24 is representable) is caught nearly
 // everywhere.
 TEST(Glsl, AFieldOneUlpApartIsCaught) {
