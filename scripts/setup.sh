@@ -6,7 +6,7 @@ packages=(
   libglm-dev libcgal-dev libopenmesh-dev libgtest-dev libgmock-dev libbenchmark-dev
   libopenimageio-dev openimageio-tools libtbb-dev libembree-dev  # OIIO's CMake package checks its tools exist
   nlohmann-json3-dev libcli11-dev libfmt-dev
-  glslang-dev glslang-tools spirv-tools spirv-headers  # GLSL fields (glslang's CMake package checks its tools)
+  glslang-dev glslang-tools spirv-tools spirv-headers  # GLSL fields; the glslang CMake package checks its tools
   python3 python3-matplotlib chromium  # plots and the report's browser test
   clang libclang-rt-dev  # scripts/fuzz.sh: libFuzzer and clang's sanitizer runtimes
   strace  # .ci/run: ../shared/tools/fresh-deps replays the configure step under it
