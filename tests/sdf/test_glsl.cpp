@@ -66,7 +66,7 @@ TEST(Glsl, BuiltinsAndConstructsFollowTheGlslSpecification) {
       {"return fract(p.x);", 0.75},
       {"return sign(p.x);", -1},
       {"return clamp(p.z, 0.0, 1.0);", 1},
-      {"return mix(p.x, p.z, 0.5);", 0.875},  // x (1 - a) + y a
+      {"return mix(p.x, p.z, 0.25);", 0.3125},  // x (1 - a) + y a
       {"return smoothstep(0.0, 1.0, p.y);", 0.5},
       {"return step(0.0, p.x) + 2.0 * step(p.x, 0.0);", 2},
       {"return atan(p.y, p.z);", std::atan2(0.5, 2.0)},

@@ -148,6 +148,9 @@ class Decoder {
   }
 
   void instruction(spv::Op op);
+  bool memory_or_composite(spv::Op op);  // each true when it decoded op
+  bool arithmetic(spv::Op op);
+  bool control(spv::Op op);
   void types_and_constants(spv::Op op);
   void variable(std::uint32_t result_type, std::uint32_t result, spv::StorageClass storage);
   void ext_inst();
@@ -429,13 +432,24 @@ void Decoder::instruction(spv::Op op) {
       p_.blocks.back().phis.push_back(phi);
       return;
     }
+    default:
+      if (!memory_or_composite(op) && !arithmetic(op) && !control(op))
+        fail("the SPIR-V instruction with opcode " + std::to_string(op) +
+             " is not supported by the evaluator (derivatives, textures, atomics, barriers, doubles' own ops)");
+  }
+}
+
+// Loads, stores, access chains and the composites: copies of slots.
+bool Decoder::memory_or_composite(spv::Op op) {
+  using namespace spv;
+  switch (op) {
     case OpLoad: {
       Instr in{Code::load};
       in.r = allocate(w_[1], w_[0]);
       in.n = type(w_[0]).size;
       in.a = slot(w_[2]);
       emit(in);
-      return;
+      return true;
     }
     case OpStore: {
       Instr in{Code::store};
@@ -443,7 +457,7 @@ void Decoder::instruction(spv::Op op) {
       in.b = slot(w_[1]);
       in.n = size_of(w_[1]);
       emit(in);
-      return;
+      return true;
     }
     case OpAccessChain:
     case OpInBoundsAccessChain: {
@@ -475,14 +489,14 @@ void Decoder::instruction(spv::Op op) {
       in.list = list(dynamic);
       in.list_size = static_cast<std::uint32_t>(dynamic.size());
       emit(in);
-      return;
+      return true;
     }
     case OpCompositeExtract: {
       const auto [offset, t] = member(type_of_.at(w_[2]), w_ + 3, n_ - 3);
       std::vector<std::uint32_t> src;
       for (std::uint32_t k = 0; k < type(t).size; ++k) src.push_back(slot(w_[2]) + offset + k);
       gather(w_[1], w_[0], src);
-      return;
+      return true;
     }
     case OpCompositeInsert: {
       const auto [offset, t] = member(w_[0], w_ + 4, n_ - 4);
@@ -490,20 +504,20 @@ void Decoder::instruction(spv::Op op) {
       for (std::uint32_t k = 0; k < type(w_[0]).size; ++k)
         src.push_back(k >= offset && k < offset + type(t).size ? slot(w_[2]) + k - offset : slot(w_[3]) + k);
       gather(w_[1], w_[0], src);
-      return;
+      return true;
     }
     case OpCompositeConstruct: {
       std::vector<std::uint32_t> src;
       for (std::uint32_t c = 2; c < n_; ++c)
         for (std::uint32_t k = 0; k < size_of(w_[c]); ++k) src.push_back(slot(w_[c]) + k);
       gather(w_[1], w_[0], src);
-      return;
+      return true;
     }
     case OpCopyObject: {
       std::vector<std::uint32_t> src;
       for (std::uint32_t k = 0; k < type(w_[0]).size; ++k) src.push_back(slot(w_[2]) + k);
       gather(w_[1], w_[0], src);
-      return;
+      return true;
     }
     case OpVectorShuffle: {
       const std::uint32_t first = size_of(w_[2]);
@@ -513,7 +527,7 @@ void Decoder::instruction(spv::Op op) {
         src.push_back(c < first ? slot(w_[2]) + c : slot(w_[3]) + c - first);
       }
       gather(w_[1], w_[0], src);
-      return;
+      return true;
     }
     case OpTranspose: {
       const TypeInfo& t = type(w_[0]);
@@ -522,9 +536,9 @@ void Decoder::instruction(spv::Op op) {
       for (std::uint32_t c = 0; c < cols; ++c)
         for (std::uint32_t r = 0; r < rows; ++r) src.push_back(slot(w_[2]) + r * cols + c);
       gather(w_[1], w_[0], src);
-      return;
+      return true;
     }
-    case OpVectorExtractDynamic: over_components(Code::extract_at, 0, true); return;
+    case OpVectorExtractDynamic: over_components(Code::extract_at, 0, true); return true;
     case OpVectorInsertDynamic: {
       Instr in{Code::insert_at};
       in.r = allocate(w_[1], w_[0]);
@@ -533,42 +547,50 @@ void Decoder::instruction(spv::Op op) {
       in.c = slot(w_[3]);
       in.b = slot(w_[4]);
       emit(in);
-      return;
+      return true;
     }
+    default: return false;
+  }
+}
+
+// Arithmetic, comparisons, conversions, products and the GLSL built-ins.
+bool Decoder::arithmetic(spv::Op op) {
+  using namespace spv;
+  switch (op) {
     case OpFAdd: case OpFSub: case OpFMul: case OpFDiv: case OpFRem: case OpFMod:
       componentwise(Code::f_binary, static_cast<std::uint16_t>(op), w_[1], w_[0], {w_[2], w_[3]});
-      return;
+      return true;
     case OpVectorTimesScalar:
     case OpMatrixTimesScalar:
       componentwise(Code::f_binary, static_cast<std::uint16_t>(OpFMul), w_[1], w_[0], {w_[2], w_[3]});
-      return;
-    case OpFNegate: componentwise(Code::f_unary, static_cast<std::uint16_t>(op), w_[1], w_[0], {w_[2]}); return;
+      return true;
+    case OpFNegate: componentwise(Code::f_unary, static_cast<std::uint16_t>(op), w_[1], w_[0], {w_[2]}); return true;
     case OpIAdd: case OpISub: case OpIMul: case OpSDiv: case OpUDiv: case OpSRem: case OpSMod: case OpUMod:
     case OpBitwiseAnd: case OpBitwiseOr: case OpBitwiseXor: case OpShiftLeftLogical: case OpShiftRightLogical:
     case OpShiftRightArithmetic: case OpLogicalAnd: case OpLogicalOr: case OpLogicalEqual: case OpLogicalNotEqual:
       componentwise(Code::i_binary, static_cast<std::uint16_t>(op), w_[1], w_[0], {w_[2], w_[3]});
-      return;
+      return true;
     case OpSNegate: case OpNot: case OpLogicalNot:
       componentwise(Code::i_unary, static_cast<std::uint16_t>(op), w_[1], w_[0], {w_[2]});
-      return;
+      return true;
     case OpFOrdEqual: case OpFOrdNotEqual: case OpFOrdLessThan: case OpFOrdGreaterThan: case OpFOrdLessThanEqual:
     case OpFOrdGreaterThanEqual: case OpFUnordEqual: case OpFUnordNotEqual: case OpFUnordLessThan:
     case OpFUnordGreaterThan: case OpFUnordLessThanEqual: case OpFUnordGreaterThanEqual: case OpIEqual:
     case OpINotEqual: case OpSLessThan: case OpSGreaterThan: case OpSLessThanEqual: case OpSGreaterThanEqual:
     case OpULessThan: case OpUGreaterThan: case OpULessThanEqual: case OpUGreaterThanEqual:
       componentwise(Code::compare, static_cast<std::uint16_t>(op), w_[1], w_[0], {w_[2], w_[3]});
-      return;
+      return true;
     case OpIsNan: case OpIsInf:
       componentwise(Code::compare, static_cast<std::uint16_t>(op), w_[1], w_[0], {w_[2]});
-      return;
-    case OpSelect: componentwise(Code::select, 0, w_[1], w_[0], {w_[2], w_[3], w_[4]}); return;
-    case OpAny: case OpAll: over_components(Code::reduce, static_cast<std::uint16_t>(op), false); return;
+      return true;
+    case OpSelect: componentwise(Code::select, 0, w_[1], w_[0], {w_[2], w_[3], w_[4]}); return true;
+    case OpAny: case OpAll: over_components(Code::reduce, static_cast<std::uint16_t>(op), false); return true;
     case OpConvertFToS: case OpConvertFToU: case OpConvertSToF: case OpConvertUToF: case OpBitcast:
       componentwise(Code::convert, static_cast<std::uint16_t>(op), w_[1], w_[0], {w_[2]});
       // A bitcast's direction is its operand's kind: kept in step_b's place, unused by conversions otherwise.
       p_.code.back().step_b = kind_of(w_[2]) == Kind::floating ? 1 : 0;
-      return;
-    case OpDot: over_components(Code::dot, 0, true); return;
+      return true;
+    case OpDot: over_components(Code::dot, 0, true); return true;
     case OpMatrixTimesVector: case OpVectorTimesMatrix: case OpMatrixTimesMatrix: {
       Instr in{Code::matrix, static_cast<std::uint16_t>(op)};
       in.r = allocate(w_[1], w_[0]);
@@ -590,14 +612,22 @@ void Decoder::instruction(spv::Op op) {
         in.c = right.count;
       }
       emit(in);
-      return;
+      return true;
     }
-    case OpExtInst: ext_inst(); return;
+    case OpExtInst: ext_inst(); return true;
+    default: return false;
+  }
+}
+
+// Branches, returns and discards.
+bool Decoder::control(spv::Op op) {
+  using namespace spv;
+  switch (op) {
     case OpBranch: {
       Instr in{Code::branch};
       emit(in);
       label_ids_.push_back({p_.code.size() - 1, 'a', w_[0]});
-      return;
+      return true;
     }
     case OpBranchConditional: {
       Instr in{Code::branch_if};
@@ -605,7 +635,7 @@ void Decoder::instruction(spv::Op op) {
       emit(in);
       label_ids_.push_back({p_.code.size() - 1, 'b', w_[1]});
       label_ids_.push_back({p_.code.size() - 1, 'c', w_[2]});
-      return;
+      return true;
     }
     case OpSwitch: {
       Instr in{Code::switch_};
@@ -619,15 +649,13 @@ void Decoder::instruction(spv::Op op) {
       in.list_size = static_cast<std::uint32_t>(cases.size());
       emit(in);
       label_ids_.push_back({p_.code.size() - 1, 'b', w_[1]});
-      return;
+      return true;
     }
-    case OpReturn: case OpReturnValue: emit({Code::ret}); return;
+    case OpReturn: case OpReturnValue: emit({Code::ret}); return true;
     case OpKill: case OpTerminateInvocation: case OpDemoteToHelperInvocation: case OpUnreachable:
       emit({Code::kill});
-      return;
-    default:
-      fail("the SPIR-V instruction with opcode " + std::to_string(op) +
-           " is not supported by the evaluator (derivatives, textures, atomics, barriers, doubles' own ops)");
+      return true;
+    default: return false;
   }
 }
 
