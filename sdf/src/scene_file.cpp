@@ -450,8 +450,9 @@ std::shared_ptr<const GlslField> glsl_from_json(const json& j, const std::string
   }
 }
 
+// external: meshes and GLSL fields may be loaded and compiled (not for a fuzzer, which passes no mesh loader).
 Node node_from_json(const json& j, const std::string& path, const Scene& scene, const std::string& scene_path,
-                    int depth) {
+                    bool external, int depth) {
   if (depth > kMaxTreeDepth) fail(path, "the tree nests deeper than " + std::to_string(kMaxTreeDepth) + " levels");
   if (!j.is_object()) fail(path, "expected an object with a \"type\"");
   // {"mesh": "file.obj"} is short for {"type": "mesh", "mesh": "file.obj"}.
@@ -494,7 +495,10 @@ Node node_from_json(const json& j, const std::string& path, const Scene& scene, 
       fail(path + "/mesh", "expected a mesh file path or a procedural:NAME(ARGS) source");
     n.source = resolve_mesh_source(j["mesh"].get<std::string>(), scene_path);
   }
-  if (n.op == Op::glsl) n.glsl = glsl_from_json(j, path, scene_path, allowed);
+  if (n.op == Op::glsl) {
+    if (!external) fail(path, "a GLSL field is not compiled here (no loader: meshes and GLSL are off)");
+    n.glsl = glsl_from_json(j, path, scene_path, allowed);
+  }
   if (j.contains("material")) {
     if (!j["material"].is_string()) fail(path + "/material", "expected a material name");
     n.material = find_material(scene, j["material"].get<std::string>());
@@ -503,14 +507,14 @@ Node node_from_json(const json& j, const std::string& path, const Scene& scene, 
   if (info->max_children == 1) {
     allowed.push_back("child");
     if (!j.contains("child")) fail(path, type + " needs \"child\"");
-    n.children.push_back(node_from_json(j["child"], path + "/child", scene, scene_path, depth + 1));
+    n.children.push_back(node_from_json(j["child"], path + "/child", scene, scene_path, external, depth + 1));
   } else if (info->max_children != 0) {
     allowed.push_back("children");
     if (!j.contains("children") || !j["children"].is_array()) fail(path, type + " needs \"children\" (an array)");
     const json& list = j["children"];
     for (size_t i = 0; i < list.size(); ++i)
       n.children.push_back(
-          node_from_json(list[i], path + "/children/" + std::to_string(i), scene, scene_path, depth + 1));
+          node_from_json(list[i], path + "/children/" + std::to_string(i), scene, scene_path, external, depth + 1));
   }
   for (const auto& [key, value] : j.items()) {
     if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
@@ -810,8 +814,10 @@ Scene scene_from_json(std::string_view text, const std::string& source, const Me
       for (const auto& [key, value] : j["limits"].items()) scene.limits[key] = number(value, "/limits/" + key);
     }
     if (!j.contains("sdf")) fail("", "missing \"sdf\" (the scene's shape tree)");
-    scene.root = node_from_json(j["sdf"], "/sdf", scene, source, 0);
-    if (j.contains("intended_sdf")) scene.intended = node_from_json(j["intended_sdf"], "/intended_sdf", scene, source, 0);
+    const bool external = static_cast<bool>(loader);
+    scene.root = node_from_json(j["sdf"], "/sdf", scene, source, external, 0);
+    if (j.contains("intended_sdf"))
+      scene.intended = node_from_json(j["intended_sdf"], "/intended_sdf", scene, source, external, 0);
     load_meshes(scene, loader);
     if (auto error = validate_tree(scene.root); !error.empty()) throw SceneError("/sdf" + error);
     if (scene.intended)

@@ -153,6 +153,17 @@ TEST(Glsl, AScenesGlslNodeNamesItsPlaceWhenItsCodeIsBad) {
   }
 }
 
+// Without a loader (the scene fuzzer's case) nothing external runs: no file read, no GLSL compiled.
+TEST(Glsl, WithoutALoaderAGlslNodeIsRefused) {
+  try {
+    scene_from_json(R"({"sdf": {"type": "glsl", "code": "float map(vec3 p) { return length(p) - 1.0; }"}})", "s.json",
+                    {});
+    FAIL() << "compiled";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()), "s.json: /sdf: a GLSL field is not compiled here (no loader: meshes and GLSL are off)");
+  }
+}
+
 // A loop that never ends on the CPU is stopped by the bound on work: the field is NaN there, not a hang; where it
 // does not end at the origin the source is refused. (In float d stops growing at 2^24 and the loop never ends.)
 TEST(Glsl, ALoopThatDoesNotEndGivesNaNOrIsRefused) {

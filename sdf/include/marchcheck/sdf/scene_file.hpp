@@ -14,7 +14,8 @@ std::string scene_to_json(const Scene& scene);
 
 // Reads a mesh node's source (a file path, or a generator such as "procedural:icosphere(1,4)") into triangles,
 // throwing std::exception with a message naming it on failure: meshes::load_mesh_source unless a caller (a
-// fuzzer that must not read files) passes another; an empty loader makes every mesh node an error.
+// fuzzer that must not read files) passes another; an empty loader makes every mesh node and every glsl node (a
+// compiler run on the text) an error.
 using MeshLoader = std::function<meshes::Mesh(const std::string& source)>;
 
 // Loads the triangles of every mesh node of the scene's trees. Throws SceneError "/json/path/mesh: problem".
