@@ -78,8 +78,8 @@ T f_unary(std::uint16_t which, T x) {
     case GLSLstd450Exp: return chain(x, [](S v) { return std::exp(v); }, [](S v) { return std::exp(v); });
     case GLSLstd450Log: return chain(x, [](S v) { return std::log(v); }, [](S v) { return 1 / v; });
     case GLSLstd450Exp2:
-      return chain(x, [](S v) { return std::exp2(v); }, [ln2](S v) { return std::exp2(v) * ln2; });
-    case GLSLstd450Log2: return chain(x, [](S v) { return std::log2(v); }, [ln2](S v) { return 1 / (v * ln2); });
+      return chain(x, [](S v) { return std::exp2(v); }, [](S v) { return std::exp2(v) * ln2; });
+    case GLSLstd450Log2: return chain(x, [](S v) { return std::log2(v); }, [](S v) { return 1 / (v * ln2); });
     case GLSLstd450Sqrt:  // the derivative at 0 is infinite: 0 keeps a gradient through a kink finite
       return chain(x, [](S v) { return std::sqrt(v); }, [](S v) { return v > 0 ? S(0.5) / std::sqrt(v) : S(0); });
     case GLSLstd450InverseSqrt:
