@@ -153,6 +153,30 @@ TEST(Glsl, AScenesGlslNodeNamesItsPlaceWhenItsCodeIsBad) {
   }
 }
 
+// Whole shaders pasted as they are: a Shadertoy one (mainImage, its own marcher, a texture read in shading, the
+// iChannel and iResolution inputs) and a WebGL one (#version 300 es, precision, its own main, in/out variables,
+// its own uniform iTime). Their map imports; only reading a texture in the field itself is refused.
+TEST(Glsl, WholePastedShadersImportTheirMap) {
+  const std::string shadertoy =
+      "float map(vec3 p) { return length(p) - 1.0; }\n"
+      "void mainImage(out vec4 fragColor, in vec2 fragCoord) {\n"
+      "  vec2 uv = (fragCoord - 0.5 * iResolution.xy) / iResolution.y;\n"
+      "  vec3 ro = vec3(0, 0, -3), rd = normalize(vec3(uv, 1));\n"
+      "  float t = 0.0;\n"
+      "  for (int i = 0; i < 64; i++) { float d = map(ro + rd * t); if (d < 1e-3) break; t += d; }\n"
+      "  fragColor = texture(iChannel0, uv) * exp(-t) + vec4(iChannelResolution[0], iTimeDelta);\n"
+      "}\n";
+  EXPECT_EQ(evaluate(glsl_tape(shadertoy), glm::dvec3(2, 0, 0)), 1.0);
+  const std::string webgl =
+      "#version 300 es\nprecision highp float;\nuniform float iTime;\nin vec2 vUv;\nout vec4 fragColor;\n"
+      "float map(vec3 p) { return length(p) - 1.0 - iTime; }\n"
+      "void main() { fragColor = vec4(map(vec3(vUv, 0.0))); }\n";
+  EXPECT_EQ(evaluate(glsl_tape(webgl), glm::dvec3(2, 0, 0)), 1.0);
+  EXPECT_NE(error_of("float map(vec3 p) { return length(p) - texture(iChannel0, p.xy).x; }").find(
+                "textures, samplers and buffers are not supported in a field (iChannel0)"),
+            std::string::npos);
+}
+
 // Without a loader (the scene fuzzer's case) nothing external runs: no file read, no GLSL compiled.
 TEST(Glsl, WithoutALoaderAGlslNodeIsRefused) {
   try {

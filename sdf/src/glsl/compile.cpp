@@ -22,23 +22,35 @@ struct Uniform {
   const char* declaration;
 };
 constexpr Uniform kShadertoy[] = {{"iTime", "uniform float iTime;"},
+                                  {"iTimeDelta", "uniform float iTimeDelta;"},
+                                  {"iFrameRate", "uniform float iFrameRate;"},
                                   {"iFrame", "uniform int iFrame;"},
                                   {"iResolution", "uniform vec3 iResolution;"},
-                                  {"iMouse", "uniform vec4 iMouse;"}};
+                                  {"iMouse", "uniform vec4 iMouse;"},
+                                  {"iDate", "uniform vec4 iDate;"},
+                                  {"iSampleRate", "uniform float iSampleRate;"},
+                                  {"iChannelTime", "uniform float iChannelTime[4];"},
+                                  {"iChannelResolution", "uniform vec3 iChannelResolution[4];"},
+                                  {"iChannel0", "uniform sampler2D iChannel0;"},
+                                  {"iChannel1", "uniform sampler2D iChannel1;"},
+                                  {"iChannel2", "uniform sampler2D iChannel2;"},
+                                  {"iChannel3", "uniform sampler2D iChannel3;"}};
 
 // The shader around the user's source: its field at the input point, the distance (a vec2/vec3/vec4 result's .x)
-// to the output. `#line 1` makes glslang's messages count the user's lines.
+// to the output. `#line 1` makes glslang's messages count the user's lines; a pasted shader's own main (WebGL's)
+// is renamed so that ours is the entry point.
 std::string wrapped(const std::string& source, const std::string& function, const std::vector<bool>& declare) {
   std::ostringstream out;
   out << "#version 450\n";
   for (size_t i = 0; i < std::size(kShadertoy); ++i)
     if (declare[i]) out << kShadertoy[i].declaration << "\n";
-  out << "#line 1\n";
+  out << "#define main marchcheck_user_main\n#line 1\n";
   // A #version of the user's own (WebGL's "300 es") would come after ours: kept as a blank line.
   std::istringstream in(source);
   std::string line;
   while (std::getline(in, line)) out << (line.rfind("#version", 0) == 0 ? "" : line) << "\n";
-  out << "layout(location = 0) in vec3 marchcheck_p;\n"
+  out << "#undef main\n"
+         "layout(location = 0) in vec3 marchcheck_p;\n"
          "layout(location = 0) out vec4 marchcheck_result;\n"
          "float marchcheck_distance(float d) { return d; }\n"
          "float marchcheck_distance(vec2 d) { return d.x; }\n"

@@ -8,6 +8,7 @@
 #include <bit>
 #include <cstring>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace marchcheck::sdf::glsl {
 
@@ -20,6 +21,7 @@ struct TypeInfo {
   std::uint32_t elem = 0;   // vector: component type; matrix: column type; array: element; pointer: pointee
   std::uint32_t count = 0;  // vector: components; matrix: columns; array: length
   std::vector<std::uint32_t> members = {};
+  bool opaque = false;  // a texture, sampler or buffer (or an array of, or pointer to, them): never evaluated
 };
 
 class Decoder {
@@ -180,6 +182,11 @@ class Decoder {
   };
   std::vector<PhiValue> pending_phi_values_;
   std::unordered_map<std::uint32_t, size_t> constant_at_;  // slot -> index into the constants
+  std::unordered_set<std::uint32_t> opaque_;               // variables of textures, samplers, buffers
+  void refuse_opaque(std::uint32_t pointer) const {
+    if (opaque_.count(pointer))
+      fail("textures, samplers and buffers are not supported in a field (" + names_.at(pointer) + ")");
+  }
   std::uint32_t glsl_set_ = 0;
   int functions_ = 0;
   bool has_output_ = false;
@@ -204,7 +211,9 @@ void Decoder::types_and_constants(spv::Op op) {
     case OpTypeArray: {
       const TypeInfo& e = type(w_[1]);
       const auto length = static_cast<std::uint32_t>(int_constants_.at(w_[2]));
-      add_type(w_[0], {op, e.size * length, e.kind, w_[1], length});
+      TypeInfo t{op, e.size * length, e.kind, w_[1], length};
+      t.opaque = e.opaque;
+      add_type(w_[0], t);
       return;
     }
     case OpTypeStruct: {
@@ -217,12 +226,22 @@ void Decoder::types_and_constants(spv::Op op) {
       add_type(w_[0], t);
       return;
     }
-    case OpTypePointer: add_type(w_[0], {op, 1, Kind::integer, w_[2]}); return;
+    case OpTypePointer: {
+      TypeInfo t{op, 1, Kind::integer, w_[2]};
+      t.opaque = type(w_[2]).opaque;
+      add_type(w_[0], t);
+      return;
+    }
     case OpTypeFunction: add_type(w_[0], {op, 0}); return;
     case OpTypeImage:
     case OpTypeSampler:
     case OpTypeSampledImage:
-    case OpTypeRuntimeArray: fail("textures, samplers and buffers are not supported in a field");
+    case OpTypeRuntimeArray: {  // a pasted shader's iChannel0 is fine as long as the field does not read it
+      TypeInfo t{op};
+      t.opaque = true;
+      add_type(w_[0], t);
+      return;
+    }
     case OpConstant:
     case OpSpecConstant: {
       const std::uint32_t at = allocate(w_[1], w_[0]);
@@ -271,6 +290,10 @@ void Decoder::types_and_constants(spv::Op op) {
 void Decoder::variable(std::uint32_t result_type, std::uint32_t result, spv::StorageClass storage) {
   const std::uint32_t pointee = type(result_type).elem;
   const TypeInfo& t = type(pointee);
+  if (t.opaque) {  // refused where the field reads it, not here
+    opaque_.insert(result);
+    return;
+  }
   const std::uint32_t base = p_.slots;
   p_.slots += std::max<std::uint32_t>(1, t.size);
   constant(allocate(result, result_type), 0, base);  // a pointer to its storage, fixed
@@ -444,6 +467,7 @@ bool Decoder::memory_or_composite(spv::Op op) {
   using namespace spv;
   switch (op) {
     case OpLoad: {
+      refuse_opaque(w_[2]);
       Instr in{Code::load};
       in.r = allocate(w_[1], w_[0]);
       in.n = type(w_[0]).size;
@@ -461,6 +485,7 @@ bool Decoder::memory_or_composite(spv::Op op) {
     }
     case OpAccessChain:
     case OpInBoundsAccessChain: {
+      refuse_opaque(w_[2]);
       Instr in{Code::access};
       in.a = slot(w_[2]);
       std::uint32_t t = type(type_of_.at(w_[2])).elem;
