@@ -184,6 +184,8 @@ int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& er
   for (const auto& scene : scenes) {
     results.push_back(validation::validate_scene(scene));
     validation::print_checks(results.back(), out);
+    // A GLSL file's scene was made here: say how (the camera's framing, found by sampling).
+    if (scene.root.op == sdf::Op::glsl && !scene.description.empty()) out << "  scene: " << scene.description << "\n";
   }
   if (cmd.json) {
     try {

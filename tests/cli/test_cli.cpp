@@ -332,6 +332,8 @@ TEST_F(Cli, AGlslFileAloneValidatesInFloatAndDouble) {
   EXPECT_NE(r.output.find("feature_tour (float): PASS"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("feature_tour (double): PASS"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("hit.false_hit"), std::string::npos) << "the usual table";
+  EXPECT_NE(r.output.find("scene: GLSL field map of"), std::string::npos) << "the scene made for it, stated";
+  EXPECT_NE(r.output.find("camera framing the region where it is negative, ["), std::string::npos) << r.output;
 }
 
 // The line of a check in validate's table.
