@@ -400,11 +400,9 @@ std::shared_ptr<const GlslField> glsl_from_json(const json& j, const std::string
   if (j.contains("source")) {
     if (!j["source"].is_string() || j["source"].get<std::string>().empty()) fail(path + "/source", "expected a file path");
     spec.source = resolve_mesh_source(j["source"].get<std::string>(), scene_path);
-    std::ifstream in(spec.source, std::ios::binary);
-    if (!in) fail(path + "/source", "cannot read '" + spec.source + "'");
-    std::ostringstream all;
-    all << in.rdbuf();
-    text = all.str();
+    const std::optional<std::string> read = read_text_file(spec.source);
+    if (!read) fail(path + "/source", "cannot read '" + spec.source + "'");
+    text = *read;
     file = spec.source;
   } else {
     if (!j["code"].is_string()) fail(path + "/code", "expected the GLSL text as a string");
@@ -828,12 +826,18 @@ Scene scene_from_json(std::string_view text, const std::string& source, const Me
   }
 }
 
-Scene load_scene_file(const std::string& path, const MeshLoader& loader) {
+std::optional<std::string> read_text_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path + ": cannot open the scene file");
+  if (!in) return std::nullopt;
   std::ostringstream text;
   text << in.rdbuf();
-  Scene scene = scene_from_json(text.str(), path, loader);
+  return text.str();
+}
+
+Scene load_scene_file(const std::string& path, const MeshLoader& loader) {
+  const std::optional<std::string> text = read_text_file(path);
+  if (!text) throw SceneError(path + ": cannot open the scene file");
+  Scene scene = scene_from_json(*text, path, loader);
   // Output, result files and the report name scenes: one without a name goes by its file's.
   if (scene.name.empty()) scene.name = std::filesystem::path(path).stem().string();
   return scene;

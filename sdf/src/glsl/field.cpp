@@ -13,6 +13,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <sstream>
 
 namespace marchcheck::sdf {
 
@@ -401,12 +402,7 @@ class Evaluator {
       case Code::convert:
         for (std::uint32_t k = 0; k < n; ++k) convert(in, in.r + k, in.a + k * in.step_a);
         break;
-      case Code::dot: {
-        T sum = f_[in.a] * f_[in.b];
-        for (std::uint32_t k = 1; k < in.c; ++k) sum = sum + f_[in.a + k] * f_[in.b + k];
-        f_[in.r] = sum;
-        break;
-      }
+      case Code::dot: f_[in.r] = dot(in.a, in.b, in.c); break;
       case Code::matrix: matrix(in); break;
       case Code::vector_fn: vector_fn(in); break;
       case Code::reduce: {
@@ -542,19 +538,20 @@ bool GlslField::finishes_at_origin() const {
 GlslField::GlslField(GlslSpec spec, const std::string& text, const std::string& file) : spec_(std::move(spec)) {
   program_ = std::make_shared<const glsl::Program>(
       glsl::decode(glsl::compile_field(text, file, spec_.function), spec_, file));
-  if (!finishes_at_origin())
-    throw GlslError(file + ": " + spec_.function + " does not finish within " + std::to_string(kMaxSteps) +
-                    " SPIR-V instructions at (0, 0, 0): a loop that does not end?");
+  const auto unfinished = [&](glm::dvec3 p) {
+    std::ostringstream at;
+    at << "(" << p.x << ", " << p.y << ", " << p.z << ")";
+    return GlslError(file + ": " + spec_.function + " does not finish within " + std::to_string(kMaxSteps) +
+                     " SPIR-V instructions at " + at.str() + ": a loop that does not end?");
+  };
+  if (!finishes_at_origin()) throw unfinished(glm::dvec3(0));
   // Not declared: the steepest of 20000 nearby pairs (1e-5 apart) in [-4, 4]^3, a lower bound on the constant.
   // A point where it does not finish ends the measurement (each costs kMaxSteps instructions).
   if (spec_.measured)
     spec_.lipschitz = measured_slope(
         [&](glm::dvec3 p) {
           const double f = distance(p);
-          if (exhausted())
-            throw GlslError(file + ": " + spec_.function + " does not finish within " + std::to_string(kMaxSteps) +
-                            " SPIR-V instructions at (" + std::to_string(p.x) + ", " + std::to_string(p.y) + ", " +
-                            std::to_string(p.z) + "): a loop that does not end?");
+          if (exhausted()) throw unfinished(p);
           return f;
         },
         glm::dvec3(-4), glm::dvec3(4));

@@ -1,10 +1,11 @@
 // The scene around a GLSL file given alone (`marchcheck validate my.glsl`): its field, and a camera framing the
 // region where the field is negative, found by sampling.
 #include "marchcheck/sdf/glsl_field.hpp"
+#include "marchcheck/sdf/scene_file.hpp"
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
+#include <numbers>
 #include <optional>
 #include <sstream>
 
@@ -37,17 +38,15 @@ std::optional<Box3> negative_region(const GlslField& field) {
 }  // namespace
 
 Scene glsl_scene(const std::string& path, const std::string& function) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path + ": cannot read the GLSL file");
-  std::ostringstream text;
-  text << in.rdbuf();
+  const std::optional<std::string> text = read_text_file(path);
+  if (!text) throw SceneError(path + ": cannot read the GLSL file");
   GlslSpec spec;
   spec.source = std::filesystem::absolute(path).lexically_normal().string();
   spec.function = function;
   Scene s;
   s.name = std::filesystem::path(path).stem().string();
   s.root = make(Op::glsl);
-  s.root.glsl = std::make_shared<const GlslField>(spec, text.str(), path);
+  s.root.glsl = std::make_shared<const GlslField>(spec, *text, path);
   s.root.source = spec.source;
   const std::optional<Box3> region = negative_region(*s.root.glsl);
   if (!region) throw SceneError(path + ": " + function + " is nowhere negative in [-512, 512]^3: no surface to frame");
@@ -56,7 +55,7 @@ Scene glsl_scene(const std::string& path, const std::string& function) {
   const double radius = 0.5 * glm::length(region->size());
   s.camera.target = region->center();
   s.camera.position = region->center() + glm::normalize(glm::dvec3(0.6, 0.5, 1)) *
-                                             (1.3 * radius / std::tan(s.camera.fov_deg * 3.14159265358979 / 360));
+                                             (1.3 * radius / std::tan(s.camera.fov_deg * std::numbers::pi / 360));
   s.march.max_dist = 4 * glm::length(s.camera.position - s.camera.target) + 2 * radius;
   // Steps of f / L with the measured constant: a field of unknown kind is not trusted to be 1-Lipschitz.
   s.march.marcher = Marcher::scaled;

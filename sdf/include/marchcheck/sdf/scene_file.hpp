@@ -5,6 +5,7 @@
 #include "marchcheck/sdf/scene.hpp"
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -25,6 +26,9 @@ void load_meshes(Scene& scene, const MeshLoader& loader = meshes::load_mesh_sour
 // SceneError: "source:line:column: problem" for syntax errors, "source: /json/path: problem" for content errors.
 Scene scene_from_json(std::string_view text, const std::string& source,
                       const MeshLoader& loader = meshes::load_mesh_source);
+
+// A whole file's bytes (scene files, GLSL sources); nothing when it cannot be opened.
+std::optional<std::string> read_text_file(const std::string& path);
 
 // Reads a scene file; errors name the file.
 Scene load_scene_file(const std::string& path, const MeshLoader& loader = meshes::load_mesh_source);
