@@ -33,6 +33,10 @@ int main(int argc, char** argv) {
   validate_cmd->add_option("--json", validate.json, "Write the metrics and checks as JSON");
   validate_cmd->add_option("--set", validate.sets, "Override a scene or marching parameter KEY=VALUE (repeatable)");
   validate_cmd->add_option("--function", validate.function, "A .glsl file's field function (default map)");
+  validate_cmd->add_option("--march", validate.march,
+                           "A .glsl file's own marcher, run on the GL driver: float|vec2|vec4 NAME(vec3 ro, vec3 rd) "
+                           "(t is .x), or NAME.member for a struct");
+  validate_cmd->add_option("--normal", validate.normal, "With --march: the file's vec3 NAME(vec3 p) normal function");
 
   StabilityCommand stability;
   auto* stability_cmd = app.add_subcommand("stability", "The hard-case battery; exit 0 all stable, 1 a case is not");

@@ -1,5 +1,5 @@
 # `cmake --install build --prefix P`: the program, the module libraries and their headers, and a CMake package
-# (find_package(marchcheck CONFIG REQUIRED); targets marchcheck::files, ::meshes, ::sdf, ::march, ::validation,
+# (find_package(marchcheck CONFIG REQUIRED); targets marchcheck::files, ::meshes, ::sdf, ::gpu, ::march, ::validation,
 # ::reports, ::commands and the program marchcheck::marchcheck). The libraries' private dependencies stay inside them, so a
 # user's project needs GLM, and GoogleTest for the test helpers.
 include(CMakePackageConfigHelpers)
@@ -28,7 +28,7 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS ${CMAKE_BINARY_DIR}/sdf ${CMAKE_BINARY_DIR}/meshes
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS ${CMAKE_BINARY_DIR}/sdf ${CMAKE_BINARY_DIR}/gpu ${CMAKE_BINARY_DIR}/meshes
     ${CMAKE_BINARY_DIR}/march ${CMAKE_BINARY_DIR}/validation ${CMAKE_BINARY_DIR}/reports ${CMAKE_BINARY_DIR}/commands
     ${CMAKE_BINARY_DIR}/files)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "libglm-dev")

@@ -10,6 +10,7 @@
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/validation/stability.hpp"
 #include "marchcheck/validation/validate.hpp"
+#include "user_marcher.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -163,7 +164,48 @@ int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err) {
   return 0;
 }
 
+namespace {
+
+// A GLSL file's own marcher on the GL driver, judged; the table and what the scene was made of.
+int validate_user_marcher(const ValidateCommand& cmd, std::ostream& out, std::ostream& err) {
+  const gpu::UserMarcher marcher{cmd.march, cmd.normal, cmd.function};
+  std::vector<validation::SceneResult> results;
+  for (const auto& path : cmd.scenes) {
+    try {
+      if (!path.ends_with(".glsl")) throw sdf::SceneError(path + ": --march runs a .glsl file's own marcher");
+      std::string limits, renderer;
+      sdf::Scene scene = user_marcher_scene(path, marcher, limits);
+      apply_sets(scene, cmd.sets);
+      sdf::compile(scene.root, scene.time);
+      results.push_back(judge_user_marcher(scene, marcher, renderer));
+      validation::print_checks(results.back(), out);
+      out << "  scene: " << scene.description << "\n  marcher: " << cmd.march
+          << (cmd.normal.empty() ? "" : ", normal " + cmd.normal) << ", map calls counted, on " << renderer << "; "
+          << limits << "; march.safe_step_ratio assumes steps of f\n";
+    } catch (const gpu::DriverUnavailable& e) {
+      err << "marchcheck validate: " << path << ": no GL driver to run the marcher on: " << e.what() << "\n";
+      return kBadInput;
+    } catch (const std::exception& e) {
+      err << "marchcheck validate: " << e.what() << "\n";
+      return kBadInput;
+    }
+  }
+  if (cmd.json) {
+    try {
+      files::write_bytes_atomically(*cmd.json, validate_json(results));
+    } catch (const std::exception& e) {
+      err << "marchcheck validate: " << e.what() << "\n";
+      return kBadInput;
+    }
+  }
+  const bool all_pass = std::all_of(results.begin(), results.end(), [](const auto& r) { return r.pass(); });
+  return all_pass ? 0 : 1;
+}
+
+}  // namespace
+
 int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& err) {
+  if (!cmd.march.empty()) return validate_user_marcher(cmd, out, err);
   std::vector<sdf::Scene> scenes;
   try {
     for (const auto& name : cmd.scenes) {

@@ -366,4 +366,45 @@ TEST_F(Cli, AGlslFileThatDoesNotCompileIsBadInputNamingTheLine) {
   expect_bad_input("validate " + path("map.glsl") + " --function sdf", "no function sdf(vec3)");
 }
 
+// A user's own marcher on the GL driver (tests/data/glsl/user_marcher.glsl), judged by validate's checks: the right
+// one passes, and each marcher with a known bug fails the check that bug breaks, and no other of those four.
+// rayMarchRelaxed is the control of rayMarchSignedHit: the same over-relaxed steps, with the hit test on |f|.
+TEST_F(Cli, AUserMarcherOnTheDriverPassesAndEachKnownBugIsCaught) {
+  const std::string file = std::string(MARCHCHECK_TEST_DATA) + "/glsl/user_marcher.glsl";
+  struct Variant {
+    const char* march;
+    const char* breaks;  // the check it fails, or nullptr
+  };
+  const Variant variants[] = {{"rayMarch", nullptr},
+                              {"rayMarchUnnormalised", "hit.false_hit"},
+                              {"rayMarchOffByOne", "march.over_max_steps"},
+                              {"rayMarchSignedHit", "hit.overshoot"},
+                              {"rayMarchRelaxed", nullptr}};
+  for (const Variant& v : variants) {
+    const CommandRun r = run("validate " + file + " --march " + v.march + " --normal calcNormal");
+    if (r.status == 2 && r.output.find("no GL driver") != std::string::npos) GTEST_SKIP() << r.output;
+    EXPECT_EQ(r.status, v.breaks ? 1 : 0) << v.march << "\n" << r.output;
+    for (const char* check : {"hit.false_hit", "march.over_max_steps", "hit.overshoot", "normal.angle_p99_deg"}) {
+      const bool failed = check_line(r.output, check).find("FAIL") != std::string::npos;
+      EXPECT_EQ(failed, v.breaks && std::string(v.breaks) == check) << v.march << " " << check << "\n" << r.output;
+    }
+    EXPECT_NE(r.output.find("limits from the shader: MAX_STEPS = 64 (max_steps) MAX_DIST = 30 (max_dist) "
+                            "SURF_DIST = 0.001 (hit_eps)"),
+              std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("map calls counted, on "), std::string::npos) << r.output;
+  }
+}
+
+TEST_F(Cli, AUserMarcherThatIsNotThereOrHasNoDriverIsBadInput) {
+  const std::string file = std::string(MARCHCHECK_TEST_DATA) + "/glsl/user_marcher.glsl";
+  expect_bad_input("validate " + file + " --march rayMarchTypo",
+                   file + ": no marcher rayMarchTypo(vec3 ro, vec3 rd) returning float");
+  expect_bad_input("validate lee-flat --march rayMarch", "lee-flat: --march runs a .glsl file's own marcher");
+  const CommandRun r = run_shell("__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent " + std::string(MARCHCHECK_BINARY) +
+                                 " validate " + file + " --march rayMarch");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find(file + ": no GL driver to run the marcher on: "), std::string::npos) << r.output;
+}
+
 }  // namespace

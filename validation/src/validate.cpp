@@ -306,9 +306,14 @@ struct HitJudge {
     const double rounding = march::tolerance::hit_point_rounding(j.subject.unit_roundoff, r.ray.origin, t_m);
     const double allowed = eps_m * r.len + rounding + j.ref.t_error_bound();
     // Within the solid but no farther past the first surface than the hit point's float rounding: rounded
-    // across the surface (t's own ulp at t = 100 is 8e-6), not a step through it.
-    const bool just_past = near.inside && rh.hit && std::abs(t_m - rh.t) <= rounding + j.ref.t_error_bound();
+    // across the surface (t's own ulp at t = 100 is 8e-6), not a step through it; or, for a marcher that stops on
+    // either side, no deeper than the threshold allows (the depth across the surface, flat at this scale).
+    const double depth = std::abs(t_m - rh.t) * std::abs(glm::dot(r.dn, rh.normal));
+    const bool just_past = near.inside && rh.hit &&
+                           (std::abs(t_m - rh.t) <= rounding + j.ref.t_error_bound() ||
+                            (j.subject.stops_either_side && depth <= allowed));
     if (near.inside && !just_past) upper = 0;  // deeper in the solid: the surface distance is unknown, the hit is wrong
+    if (just_past && j.subject.stops_either_side) upper = std::min(upper, depth);
     if ((near.inside && !just_past) || (rh.hit && t_m > rh.t + band && upper > allowed)) {
       ++overshoot;  // the march went through the first surface
       j.offenders.first("hit.overshoot", text);
@@ -490,6 +495,18 @@ void judge_field(Judging& j, const std::vector<std::pair<dvec3, double>>& surfac
   if (std::isfinite(overestimate)) m["sdf.overestimate_max"] = overestimate;
 }
 
+}  // namespace
+
+std::vector<glm::dvec2> sampled_pixels(const sdf::Scene& scene, const ValidateOptions& options) {
+  std::vector<glm::dvec2> out;
+  for (int y = 0; y < options.rays_y; ++y)
+    for (int x = 0; x < options.rays_x; ++x)
+      out.push_back({(x + 0.5) * scene.width / options.rays_x, (y + 0.5) * scene.height / options.rays_y});
+  return out;
+}
+
+namespace {
+
 // Every judge over the scene's grid of primary rays.
 void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOptions& opt,
              std::map<std::string, double>& m, std::map<std::string, std::string>& offender_text) {
@@ -498,16 +515,14 @@ void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOpti
   NormalJudge normals(static_cast<bool>(subject.normal));  // else judged when the marcher gives a normal
   ShadowJudge shadows;
   std::vector<std::pair<dvec3, double>> surface_points;  // reference hits and their distance, for the field
-  for (int y = 0; y < opt.rays_y; ++y)
-    for (int x = 0; x < opt.rays_x; ++x) {
-      const SampledRay r =
-          sample_ray(j, (x + 0.5) * scene.width / opt.rays_x, (y + 0.5) * scene.height / opt.rays_y);
-      const std::optional<AgreedHit> agreed = hits.judge(j, r, normals);
-      if (!agreed) continue;
-      if (agreed->n_m) normals.angle_to_reference(j.offenders, r, *agreed->n_m, agreed->at_edge);
-      surface_points.push_back({r.ray.origin + r.dn * r.rh.t, r.rh.t});
-      if (subject.visibility) shadows.judge(j, r, *agreed);
-    }
+  for (const glm::dvec2 pixel : sampled_pixels(scene, opt)) {
+    const SampledRay r = sample_ray(j, pixel.x, pixel.y);
+    const std::optional<AgreedHit> agreed = hits.judge(j, r, normals);
+    if (!agreed) continue;
+    if (agreed->n_m) normals.angle_to_reference(j.offenders, r, *agreed->n_m, agreed->at_edge);
+    surface_points.push_back({r.ray.origin + r.dn * r.rh.t, r.rh.t});
+    if (subject.visibility) shadows.judge(j, r, *agreed);
+  }
   hits.report(j, m);
   normals.report(m);
   shadows.report(m);

@@ -9,7 +9,9 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <memory>
 #include <mutex>
+#include <optional>
 #include <sstream>
 
 namespace marchcheck::sdf::glsl {
@@ -36,34 +38,26 @@ constexpr Uniform kShadertoy[] = {{"iTime", "uniform float iTime;"},
                                   {"iChannel2", "uniform sampler2D iChannel2;"},
                                   {"iChannel3", "uniform sampler2D iChannel3;"}};
 
-// The shader around the user's source: its field at the input point, the distance (a vec2/vec3/vec4 result's .x)
-// to the output. `#line 1` makes glslang's messages count the user's lines; a pasted shader's own main (WebGL's)
-// is renamed so that ours is the entry point.
-std::string wrapped(const std::string& source, const std::string& function, const std::vector<bool>& declare) {
+// The shader around the user's source: the entry's declarations, then the source (`#line 1` makes glslang's
+// messages count the user's lines; a pasted shader's own main, WebGL's, is renamed so that ours is the entry
+// point), then the entry's code.
+std::string wrapped(const std::string& source, const GlslEntry& entry, const std::vector<bool>& declare) {
   std::ostringstream out;
   out << "#version 450\n";
   for (size_t i = 0; i < std::size(kShadertoy); ++i)
     if (declare[i]) out << kShadertoy[i].declaration << "\n";
-  out << "#define main marchcheck_user_main\n#line 1\n";
+  out << entry.before << "#define main marchcheck_user_main\n#line 1\n";
   // A #version of the user's own (WebGL's "300 es") would come after ours: kept as a blank line.
   std::istringstream in(source);
   std::string line;
   while (std::getline(in, line)) out << (line.rfind("#version", 0) == 0 ? "" : line) << "\n";
-  out << "#undef main\n"
-         "layout(location = 0) in vec3 marchcheck_p;\n"
-         "layout(location = 0) out vec4 marchcheck_result;\n"
-         "float marchcheck_distance(float d) { return d; }\n"
-         "float marchcheck_distance(vec2 d) { return d.x; }\n"
-         "float marchcheck_distance(vec3 d) { return d.x; }\n"
-         "float marchcheck_distance(vec4 d) { return d.x; }\n"
-         "void main() { marchcheck_result = vec4(marchcheck_distance("
-      << function << "(marchcheck_p))); }\n";
+  out << "#undef main\n" << entry.after;
   return out.str();
 }
 
 // glslang's "ERROR: 0:12: 'x' : undeclared identifier" as "file:12: 'x' : undeclared identifier"; a message
-// about the lines marchcheck adds after the user's (user_lines of them) is about the field function.
-std::string messages(const std::string& log, const std::string& file, int user_lines, const std::string& function) {
+// about the lines marchcheck adds after the user's (user_lines of them) says what the entry expected.
+std::string messages(const std::string& log, const std::string& file, int user_lines, const std::string& expects) {
   std::istringstream in(log);
   std::string line, out;
   while (std::getline(in, line)) {
@@ -74,9 +68,7 @@ std::string messages(const std::string& log, const std::string& file, int user_l
       if (line.rfind(prefix, 0) != 0) continue;
       const std::string rest = line.substr(prefix.size());
       const int number = std::atoi(rest.c_str());
-      line = number > user_lines ? file + ": no function " + function +
-                                       "(vec3) returning float, vec2, vec3 or vec4 (" +
-                                       rest.substr(rest.find(':') + 1) + ")"
+      line = number > user_lines ? file + ": " + expects + " (" + rest.substr(rest.find(':') + 1) + ")"
                                  : file + ":" + rest;
     }
     out += (out.empty() ? "" : "\n") + line;
@@ -84,10 +76,10 @@ std::string messages(const std::string& log, const std::string& file, int user_l
   return out;
 }
 
-bool parse(glslang::TShader& shader, const std::string& text) {
+bool parse(glslang::TShader& shader, EShLanguage stage, const std::string& text) {
   const char* strings[] = {text.c_str()};
   shader.setStrings(strings, 1);
-  shader.setEnvInput(glslang::EShSourceGlsl, EShLangFragment, glslang::EShClientOpenGL, 450);
+  shader.setEnvInput(glslang::EShSourceGlsl, stage, glslang::EShClientOpenGL, 450);
   shader.setEnvClient(glslang::EShClientOpenGL, glslang::EShTargetOpenGL_450);
   shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_0);
   shader.setAutoMapBindings(true);  // bare `uniform float iTime;` needs a location and a binding
@@ -116,28 +108,23 @@ std::vector<std::uint32_t> optimised(const std::vector<std::uint32_t>& words) {
   return out;
 }
 
-}  // namespace
+// The completed shader, parsed, and how many of its lines are the user's (for messages).
+struct Parsed {
+  std::unique_ptr<glslang::TShader> shader;
+  std::string text;
+  int user_lines;
+};
 
-std::vector<std::uint32_t> compile_field(const std::string& source, const std::string& file,
-                                         const std::string& function) {
+Parsed parsed(const std::string& source, const std::string& file, const GlslEntry& entry) {
   static std::once_flag init;
   std::call_once(init, [] { glslang::InitializeProcess(); });
+  const EShLanguage stage = entry.compute ? EShLangCompute : EShLangFragment;
   std::vector<bool> declare(std::size(kShadertoy), true);
   const int user_lines = static_cast<int>(std::count(source.begin(), source.end(), '\n')) + 1;
   for (int attempt = 0;; ++attempt) {
-    glslang::TShader shader(EShLangFragment);
-    const std::string text = wrapped(source, function, declare);
-    if (parse(shader, text)) {
-      glslang::TProgram program;
-      program.addShader(&shader);
-      if (!program.link(EShMsgDefault)) throw GlslError(messages(program.getInfoLog(), file, user_lines, function));
-      std::vector<std::uint32_t> words;
-      glslang::SpvOptions options;
-      options.disableOptimizer = true;  // ours, without constant folding
-      glslang::GlslangToSpv(*program.getIntermediate(EShLangFragment), words, &options);
-      return optimised(words);
-    }
-    const std::string log = shader.getInfoLog();
+    Parsed p{std::make_unique<glslang::TShader>(stage), wrapped(source, entry, declare), user_lines};
+    if (parse(*p.shader, stage, p.text)) return p;
+    const std::string log = p.shader->getInfoLog();
     // The source declares a Shadertoy input itself: not ours too.
     bool retry = false;
     for (size_t i = 0; i < std::size(kShadertoy); ++i)
@@ -145,8 +132,77 @@ std::vector<std::uint32_t> compile_field(const std::string& source, const std::s
         declare[i] = false;
         retry = true;
       }
-    if (!retry || attempt > 4) throw GlslError(messages(log, file, user_lines, function));
+    if (!retry || attempt > 4) throw GlslError(messages(log, file, user_lines, entry.expects));
   }
 }
 
+// Where a function's definition begins its body: glslang places the definition at its prototype's ')'.
+struct DefinitionFinder : glslang::TIntermTraverser {
+  std::string mangled;  // glslang's name for NAME(vec3): "NAME(vf3;"
+  std::optional<glslang::TSourceLoc> at;
+  bool visitAggregate(glslang::TVisit, glslang::TIntermAggregate* node) override {
+    if (node->getOp() != glslang::EOpFunction) return true;  // the sequence of the shader's definitions
+    if (node->getName().c_str() == mangled) at = node->getLoc();
+    return false;  // a definition holds no other definition
+  }
+};
+
+}  // namespace
+
+std::vector<std::uint32_t> compile_field(const std::string& source, const std::string& file,
+                                         const std::string& function) {
+  const GlslEntry entry{"",
+                        "layout(location = 0) in vec3 marchcheck_p;\n"
+                        "layout(location = 0) out vec4 marchcheck_result;\n"
+                        "float marchcheck_distance(float d) { return d; }\n"
+                        "float marchcheck_distance(vec2 d) { return d.x; }\n"
+                        "float marchcheck_distance(vec3 d) { return d.x; }\n"
+                        "float marchcheck_distance(vec4 d) { return d.x; }\n"
+                        "void main() { marchcheck_result = vec4(marchcheck_distance(" +
+                            function + "(marchcheck_p))); }\n",
+                        false, "no function " + function + "(vec3) returning float, vec2, vec3 or vec4"};
+  Parsed p = parsed(source, file, entry);
+  glslang::TProgram program;
+  program.addShader(p.shader.get());
+  if (!program.link(EShMsgDefault)) throw GlslError(messages(program.getInfoLog(), file, p.user_lines, entry.expects));
+  std::vector<std::uint32_t> words;
+  glslang::SpvOptions options;
+  options.disableOptimizer = true;  // ours, without constant folding
+  glslang::GlslangToSpv(*program.getIntermediate(EShLangFragment), words, &options);
+  return optimised(words);
+}
+
 }  // namespace marchcheck::sdf::glsl
+
+namespace marchcheck::sdf {
+
+std::string complete_glsl(const std::string& source, const std::string& file, const GlslEntry& entry) {
+  return glsl::parsed(source, file, entry).text;
+}
+
+std::string run_first_in(const std::string& source, const std::string& file, const std::string& function,
+                         const std::string& statement) {
+  glsl::Parsed p = glsl::parsed(source, file, {"", "void main() {}\n", false, ""});
+  glsl::DefinitionFinder finder;
+  finder.mangled = function + "(vf3;";
+  p.shader->getIntermediate()->getTreeRoot()->traverse(&finder);
+  if (!finder.at) throw GlslError(file + ": no function " + function + "(vec3) is defined");
+  // The ')' at (line, column), both from 1; the body's '{' after it, past white space.
+  const auto fail = [&] {
+    return GlslError(file + ":" + std::to_string(finder.at->line) + ": " + function +
+                     "'s definition is not written out in the text (a macro?): its calls cannot be counted");
+  };
+  size_t pos = 0;
+  for (int line = 1; line < finder.at->line; ++line) {
+    pos = source.find('\n', pos);
+    if (pos == std::string::npos) throw fail();
+    ++pos;
+  }
+  pos += static_cast<size_t>(finder.at->column - 1);
+  if (pos >= source.size() || source[pos] != ')') throw fail();
+  pos = source.find_first_not_of(" \t\r\n", pos + 1);
+  if (pos == std::string::npos || source[pos] != '{') throw fail();
+  return source.substr(0, pos + 1) + " " + statement + " " + source.substr(pos + 1);
+}
+
+}  // namespace marchcheck::sdf

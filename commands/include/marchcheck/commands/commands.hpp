@@ -38,6 +38,9 @@ struct ValidateCommand {
   std::optional<std::string> json;
   std::vector<std::string> sets;
   std::string function = "map";  // a .glsl file's field function
+  // A .glsl file's own marcher and normal function, run on the GL driver and judged instead of marchcheck's
+  // marching of its field (see gpu::UserMarcher for their forms).
+  std::string march, normal;
 };
 int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& err);
 

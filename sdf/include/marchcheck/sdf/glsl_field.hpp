@@ -60,6 +60,25 @@ class GlslField {
   std::shared_ptr<const glsl::Program> program_;
 };
 
+// What marchcheck puts around a user's source to make one GLSL 4.50 shader of it.
+struct GlslEntry {
+  std::string before;   // declarations the source may use (marchcheck's counters), before its text
+  std::string after;    // the entry point, calling into the source, after it
+  bool compute = false;  // a compute shader (the GL driver's runs), else a fragment shader (the CPU's)
+  std::string expects;  // what a message about `after` means, e.g. "no function map(vec3) returning float"
+};
+
+// The source as one shader: Shadertoy's inputs it does not declare itself declared, a pasted shader's own main
+// renamed, its lines counted from 1 (`#line 1`), the entry around it; checked by glslang. Throws GlslError
+// "file:line: message".
+std::string complete_glsl(const std::string& source, const std::string& file, const GlslEntry& entry);
+
+// The source with `statement` run first in the body of function(vec3), as glslang locates its definition (how
+// the GL driver's run counts the field's calls). Throws GlslError naming the function when the source does not
+// define it, or defines it through a macro.
+std::string run_first_in(const std::string& source, const std::string& file, const std::string& function,
+                         const std::string& statement);
+
 // The scene around a GLSL file given alone: its field (kind unknown: measured), marched in steps of f / L, a camera
 // framing the region where it is negative (found by sampling, stated in the description), a directional light
 // with hard shadows. Throws

@@ -60,6 +60,10 @@ struct ValidateOptions {
   bool keep_images = false;      // keep the image pair (marched with the steps AOV) in the result
 };
 
+// The image positions (pixels, x then y) of the primary rays validate samples, row by row: the rays a subject's
+// march is asked for, through the scene's camera.
+std::vector<glm::dvec2> sampled_pixels(const sdf::Scene& scene, const ValidateOptions& options);
+
 // The reference as the renderer's oracle (for reference renders); ref must outlive it.
 march::SurfaceOracle oracle_of(const Reference& ref);
 
@@ -95,6 +99,9 @@ struct Subject {
   sdf::FieldInfo declared;     // the kind and Lipschitz bound the field claims
   bool exact_outside = false;  // the field promises the true distance outside its solid (hits within hit_eps)
   double unit_roundoff = 0;    // of the march's arithmetic: how far rounding may move a hit point, per unit
+  // The marcher stops where |f| < the threshold, inside the solid too (a user's marcher, as tutorials write it):
+  // a hit no farther past the surface than the threshold is a hit, not a step through it.
+  bool stops_either_side = false;
 };
 
 // The scene's own subject: its compiled tape, marched as the scene declares (marcher, limits, precision, and a

@@ -1,0 +1,108 @@
+// The shaders around a user's source for the driver: its marcher per pixel (a pixel a ray), or its field.
+#include "marchcheck/gpu/user_marcher.hpp"
+
+#include "marchcheck/sdf/glsl_field.hpp"
+
+namespace marchcheck::gpu {
+
+namespace {
+
+// The pixel's invocation index and the input it reads; the distance (or t) of any of GLSL's result forms.
+constexpr const char* kPixelInput =
+    "layout(std430, binding = 0) readonly buffer MarchcheckInput { vec4 marchcheck_input[]; };\n"
+    "uniform uint marchcheck_width;\n"
+    "uint marchcheck_index() { return uint(gl_FragCoord.y) * marchcheck_width + uint(gl_FragCoord.x); }\n"
+    "float marchcheck_x(float d) { return d; }\n"
+    "float marchcheck_x(vec2 d) { return d.x; }\n"
+    "float marchcheck_x(vec3 d) { return d.x; }\n"
+    "float marchcheck_x(vec4 d) { return d.x; }\n";
+
+std::vector<float> flattened(const std::vector<glm::dvec3>& points) {
+  std::vector<float> out;
+  out.reserve(points.size() * 4);
+  for (const glm::dvec3& p : points)
+    for (double c : {p.x, p.y, p.z, 0.0}) out.push_back(static_cast<float>(c));
+  return out;
+}
+
+}  // namespace
+
+UserMarch march_on_driver(const std::string& text, const std::string& file, const UserMarcher& marcher,
+                          const std::map<std::string, std::vector<double>>& uniforms,
+                          const std::vector<std::pair<glm::dvec3, glm::dvec3>>& rays, double seconds_limit) {
+  const auto dot = marcher.march.find('.');
+  const std::string function = marcher.march.substr(0, dot);
+  const std::string member = dot == std::string::npos ? "" : marcher.march.substr(dot);
+  std::string after = kPixelInput;
+  after += "layout(location = 0) out vec4 marchcheck_march;\n"
+           "layout(location = 1) out vec4 marchcheck_normal;\n"
+           "void main() {\n"
+           "  uint i = marchcheck_index();\n"
+           "  vec3 ro = marchcheck_input[2u * i].xyz, rd = marchcheck_input[2u * i + 1u].xyz;\n"
+           "  marchcheck_calls = 0u;\n"
+           "  float t = marchcheck_x(" + function + "(ro, rd)" + member + ");\n"
+           "  marchcheck_march = vec4(t, float(marchcheck_calls), 0.0, 0.0);\n";
+  after += marcher.normal.empty() ? "  marchcheck_normal = vec4(0.0);\n"
+                                  : "  marchcheck_normal = vec4(" + marcher.normal + "(ro + rd * t), 1.0);\n";
+  after += "}\n";
+  const std::string expects = "no marcher " + function + "(vec3 ro, vec3 rd) returning float, vec2, vec3 or vec4" +
+                              (member.empty() ? "" : " or a struct with member " + member.substr(1)) +
+                              (marcher.normal.empty() ? "" : ", or no normal " + marcher.normal +
+                                                                 "(vec3) returning vec3");
+  const std::string counted = sdf::run_first_in(text, file, marcher.map, "marchcheck_calls++;");
+  DriverJob job;
+  job.shader = sdf::complete_glsl(counted, file, {"uint marchcheck_calls;\n", after, false, expects});
+  job.file = file;
+  for (const auto& [origin, direction] : rays)
+    for (double c : {origin.x, origin.y, origin.z, 0.0, direction.x, direction.y, direction.z, 0.0})
+      job.input.push_back(static_cast<float>(c));
+  job.outputs = 2;
+  job.invocations = static_cast<unsigned>(rays.size());
+  job.uniforms = uniforms;
+  job.seconds_limit = seconds_limit;
+  const DriverResult run = run_on_driver(job);
+  UserMarch out{{}, run.renderer, run.seconds};
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const float* o = run.output.data() + i * 8;
+    UserRay r{o[0], static_cast<int>(o[1]), std::nullopt};
+    if (o[7] == 1.0f) r.normal = glm::dvec3(o[4], o[5], o[6]);
+    out.rays.push_back(r);
+  }
+  return out;
+}
+
+std::vector<float> field_on_driver(const std::string& text, const std::string& file, const std::string& function,
+                                   const std::map<std::string, std::vector<double>>& uniforms,
+                                   const std::vector<glm::dvec3>& points, double seconds_limit) {
+  const std::string after = std::string(kPixelInput) +
+                            "layout(location = 0) out vec4 marchcheck_result;\n"
+                            "void main() { marchcheck_result = vec4(marchcheck_x(" + function +
+                            "(marchcheck_input[marchcheck_index()].xyz))); }\n";
+  DriverJob job;
+  job.shader = sdf::complete_glsl(
+      text, file, {"", after, false, "no function " + function + "(vec3) returning float, vec2, vec3 or vec4"});
+  job.file = file;
+  job.input = flattened(points);
+  job.invocations = static_cast<unsigned>(points.size());
+  job.uniforms = uniforms;
+  job.seconds_limit = seconds_limit;
+  const DriverResult run = run_on_driver(job);
+  std::vector<float> out(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) out[i] = run.output[i * 4];
+  return out;
+}
+
+std::optional<double> glsl_constant(const std::string& text, const std::string& file, const std::string& name) {
+  sdf::GlslSpec spec;
+  spec.function = "marchcheck_constant";
+  spec.measured = false;
+  try {
+    const sdf::GlslField probe(spec, text + "\nfloat marchcheck_constant(vec3 p) { return float(" + name + "); }\n",
+                               file);
+    return probe.distance(glm::dvec3(0));
+  } catch (const sdf::GlslError&) {
+    return std::nullopt;  // no such name (the source's own errors surface when it is compiled for real)
+  }
+}
+
+}  // namespace marchcheck::gpu
