@@ -50,7 +50,8 @@ int main(int argc, char** argv) {
 
   SweepCommand sweep;
   auto* sweep_cmd = app.add_subcommand("sweep", "Accuracy and cost of every combination of parameters, and the Pareto front");
-  sweep_cmd->add_option("scene", sweep.scene, "Built-in scene name or scene file (.json)")->required();
+  sweep_cmd->add_option("scene", sweep.scene, "Built-in scene name, scene file (.json), or with --march a .glsl file")
+      ->required();
   sweep_cmd->add_option("--vary", sweep.vary, "KEY=V1,V2,... (repeatable; every combination is run)")->required();
   sweep_cmd->add_option("--target", sweep.targets, "METRIC=VALUE: name the cheapest combination with METRIC <= VALUE (repeatable)");
   sweep_cmd->add_option("--error", sweep.error_metric, "The error metric of the Pareto front")->capture_default_str();
@@ -59,6 +60,11 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("--json", sweep.json, "Write every combination's metrics as JSON");
   sweep_cmd->add_option("--csv", sweep.csv, "Write every combination's metrics as CSV");
   sweep_cmd->add_option("--set", sweep.sets, "Override a scene or marching parameter KEY=VALUE (repeatable)");
+  sweep_cmd->add_option("--march", sweep.march,
+                        "A .glsl file's own marcher on the GL driver (as validate's); --vary glsl.NAME=... sets the "
+                        "shader's #define or uniform NAME");
+  sweep_cmd->add_option("--normal", sweep.normal, "With --march: the file's normal function");
+  sweep_cmd->add_option("--function", sweep.function, "With --march: the field the marcher calls (default map)");
 
   CompareCommand compare;
   auto* compare_cmd = app.add_subcommand("compare", "Compare two validate/sweep result files; exit 1 on a regression");

@@ -33,6 +33,12 @@ namespace {
 
 constexpr int kBadInput = 2;
 
+std::string format_value(double v) {
+  std::ostringstream text;
+  text << std::setprecision(4) << v;
+  return text.str();
+}
+
 void apply_sets(sdf::Scene& scene, const std::vector<std::string>& sets) {
   for (const auto& kv : sets) {
     const auto eq = kv.find('=');
@@ -166,6 +172,12 @@ int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err) {
 
 namespace {
 
+UserShader read_user_shader(const std::string& path) {
+  const std::optional<std::string> text = sdf::read_text_file(path);
+  if (!text) throw sdf::SceneError(path + ": cannot read the GLSL file");
+  return {path, *text, {}};
+}
+
 // A GLSL file's own marcher on the GL driver, judged; the table and what the scene was made of.
 int validate_user_marcher(const ValidateCommand& cmd, std::ostream& out, std::ostream& err) {
   const gpu::UserMarcher marcher{cmd.march, cmd.normal, cmd.function};
@@ -174,14 +186,23 @@ int validate_user_marcher(const ValidateCommand& cmd, std::ostream& out, std::os
     try {
       if (!path.ends_with(".glsl")) throw sdf::SceneError(path + ": --march runs a .glsl file's own marcher");
       std::string limits, renderer;
-      sdf::Scene scene = user_marcher_scene(path, marcher, limits);
+      const UserShader shader = read_user_shader(path);
+      sdf::Scene scene = user_marcher_scene(shader, marcher, limits);
       apply_sets(scene, cmd.sets);
       sdf::compile(scene.root, scene.time);
-      results.push_back(judge_user_marcher(scene, marcher, renderer));
+      results.push_back(judge_user_marcher(scene, shader, marcher, renderer));
       validation::print_checks(results.back(), out);
       out << "  scene: " << scene.description << "\n  marcher: " << cmd.march
           << (cmd.normal.empty() ? "" : ", normal " + cmd.normal) << ", map calls counted, on " << renderer << "; "
           << limits << "; march.safe_step_ratio assumes steps of f\n";
+      const auto& m = results.back().metrics;
+      out << "  driver against CPU (the same marcher, float): " << m.at("driver.outcome_differs")
+          << " rays with another outcome, t within " << m.at("driver.t_ulps_max") << " ulps where both hit; float "
+          << "against double on the CPU: " << m.at("cpu.float_double_outcome_differs") << " rays with another outcome"
+          << (m.at("driver.cpu_unfinished") > 0
+                  ? "; " + format_value(m.at("driver.cpu_unfinished")) + " rays the CPU evaluator could not finish"
+                  : "")
+          << "\n";
     } catch (const gpu::DriverUnavailable& e) {
       err << "marchcheck validate: " << path << ": no GL driver to run the marcher on: " << e.what() << "\n";
       return kBadInput;
@@ -301,15 +322,29 @@ int run_render_all(const std::string& dir, std::ostream& out, std::ostream& err)
 
 namespace {
 
-std::string format_value(double v) {
-  std::ostringstream text;
-  text << std::setprecision(4) << v;
-  return text.str();
-}
-
 std::string metric_text(const validation::SweepPoint& p, const std::string& name) {
   const auto it = p.metrics.find(name);
   return it == p.metrics.end() ? "-" : format_value(it->second);
+}
+
+// The sweep's table: each combination's settings, the error metric and the other columns, its place on the
+// fronts, its checks, and the cheapest that meets the targets.
+void print_sweep(const validation::SweepResult& result, const std::vector<std::string>& others, std::ostream& out) {
+  std::vector<std::string> columns = {result.error_metric};
+  for (const auto& c : others)
+    if (c != result.error_metric) columns.push_back(c);
+  for (const auto& a : result.axes) out << std::left << std::setw(12) << a.key << " ";
+  for (const auto& c : columns) out << std::right << std::setw(std::max<int>(12, static_cast<int>(c.size()) + 1)) << c;
+  out << "  front  checks\n";
+  for (size_t i = 0; i < result.points.size(); ++i) {
+    const auto& p = result.points[i];
+    for (const auto& [k, v] : p.settings) out << std::left << std::setw(12) << v << " ";
+    for (const auto& c : columns)
+      out << std::right << std::setw(std::max<int>(12, static_cast<int>(c.size()) + 1)) << metric_text(p, c);
+    out << "  " << (p.pareto_evals ? "E" : " ") << (p.pareto_seconds ? "S" : " ") << "     "
+        << (p.pass ? "pass" : "FAIL") << (result.cheapest_meeting == i ? "  <- cheapest meeting the target" : "") << "\n";
+  }
+  if (!result.targets.empty() && !result.cheapest_meeting) out << "no combination meets the target\n";
 }
 
 void draw_progress(std::ostream& err, size_t done, size_t total) {
@@ -321,7 +356,72 @@ void draw_progress(std::ostream& err, size_t done, size_t total) {
 
 }  // namespace
 
+namespace {
+
+// A sweep of a GLSL file's own parameters, its own marcher judged at each combination on the GL driver; the
+// error axis hit.t_err_p99 unless asked, the cost its map calls per ray (in cost.evals_per_pixel: a ray a
+// sampled pixel) and the driver's seconds.
+int sweep_user_marcher(const SweepCommand& cmd, std::ostream& out, std::ostream& err) {
+  const gpu::UserMarcher marcher{cmd.march, cmd.normal, cmd.function};
+  std::vector<validation::SweepAxis> axes;
+  validation::SweepOptions options;
+  options.error_metric = cmd.error_metric == "image.rms" ? "hit.t_err_p99" : cmd.error_metric;  // no image here
+  if (cmd.progress) options.progress = [&err](size_t done, size_t total) { draw_progress(err, done, total); };
+  validation::SweepResult result;
+  try {
+    if (!cmd.scene.ends_with(".glsl")) throw sdf::SceneError(cmd.scene + ": --march runs a .glsl file's own marcher");
+    const UserShader shader = read_user_shader(cmd.scene);
+    for (const auto& v : cmd.vary) {
+      axes.push_back(validation::parse_sweep_axis(v));
+      if (!axes.back().key.starts_with("glsl."))
+        throw sdf::SceneError("--vary " + v + ": with --march, the axes are the shader's own (glsl.NAME)");
+      for (const auto& value : axes.back().values) {
+        UserShader probe = shader;  // every value applies before any work is done
+        set_shader_parameter(probe, axes.back().key.substr(5), value);
+      }
+    }
+    for (const auto& t : cmd.targets) options.targets.push_back(validation::parse_sweep_target(t));
+    std::string renderer;
+    result = validation::sweep_combinations(cmd.scene, axes, options, [&](validation::SweepPoint& point) {
+      UserShader s = shader;
+      for (const auto& [key, value] : point.settings) set_shader_parameter(s, key.substr(5), value);
+      std::string limits;
+      sdf::Scene scene = user_marcher_scene(s, marcher, limits);
+      apply_sets(scene, cmd.sets);
+      sdf::compile(scene.root, scene.time);
+      const auto start = std::chrono::steady_clock::now();
+      const validation::SceneResult judged = judge_user_marcher(scene, s, marcher, renderer);
+      point.metrics = judged.metrics;
+      point.metrics["cost.evals_per_pixel"] = judged.metrics.at("cost.march_evals_per_ray");
+      point.metrics["cost.seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      point.pass = judged.pass();
+    });
+    out << cmd.scene << ", marcher " << cmd.march << " on " << renderer << ": " << result.points.size()
+        << " combinations (front: E = Pareto front of " << options.error_metric
+        << " against map calls per ray, S = against seconds, each a whole judged run)\n";
+  } catch (const gpu::DriverUnavailable& e) {
+    err << "marchcheck sweep: " << cmd.scene << ": no GL driver to run the marcher on: " << e.what() << "\n";
+    return kBadInput;
+  } catch (const std::exception& e) {
+    err << "marchcheck sweep: " << e.what() << "\n";
+    return kBadInput;
+  }
+  print_sweep(result, {"hit.false_hit", "hit.false_miss", "hit.overshoot", "hit.undecided", "march.over_max_steps",
+                       "cost.evals_per_pixel", "cost.seconds"}, out);
+  try {
+    if (cmd.json) files::write_bytes_atomically(*cmd.json, sweep_json(result));
+    if (cmd.csv) files::write_bytes_atomically(*cmd.csv, sweep_csv(result));
+  } catch (const std::exception& e) {
+    err << "marchcheck sweep: " << e.what() << "\n";
+    return kBadInput;
+  }
+  return 0;
+}
+
+}  // namespace
+
 int run_sweep(const SweepCommand& cmd, std::ostream& out, std::ostream& err) {
+  if (!cmd.march.empty()) return sweep_user_marcher(cmd, out, err);
   sdf::Scene scene;
   std::vector<validation::SweepAxis> axes;
   validation::SweepOptions options;
@@ -359,24 +459,11 @@ int run_sweep(const SweepCommand& cmd, std::ostream& out, std::ostream& err) {
     return kBadInput;
   }
 
-  std::vector<std::string> columns = {options.error_metric};
-  for (const char* c : {"hit.undecided", "hit.t_err_p99", "normal.angle_p99_deg", "cost.evals_per_pixel", "cost.seconds"})
-    if (c != options.error_metric) columns.push_back(c);
   out << scene.name << ": " << result.points.size() << " combinations (front: E = Pareto front of "
       << options.error_metric << " against evaluations, S = against seconds; seconds = median of " << options.repeat
       << " renders at width " << std::min(options.render_width, scene.width) << ")\n";
-  for (const auto& a : axes) out << std::left << std::setw(12) << a.key << " ";
-  for (const auto& c : columns) out << std::right << std::setw(std::max<int>(12, static_cast<int>(c.size()) + 1)) << c;
-  out << "  front  checks\n";
-  for (size_t i = 0; i < result.points.size(); ++i) {
-    const auto& p = result.points[i];
-    for (const auto& [k, v] : p.settings) out << std::left << std::setw(12) << v << " ";
-    for (const auto& c : columns)
-      out << std::right << std::setw(std::max<int>(12, static_cast<int>(c.size()) + 1)) << metric_text(p, c);
-    out << "  " << (p.pareto_evals ? "E" : " ") << (p.pareto_seconds ? "S" : " ") << "     "
-        << (p.pass ? "pass" : "FAIL") << (result.cheapest_meeting == i ? "  <- cheapest meeting the target" : "") << "\n";
-  }
-  if (!options.targets.empty() && !result.cheapest_meeting) out << "no combination meets the target\n";
+  print_sweep(result, {"hit.undecided", "hit.t_err_p99", "normal.angle_p99_deg", "cost.evals_per_pixel",
+                       "cost.seconds"}, out);
   try {
     if (cmd.json) files::write_bytes_atomically(*cmd.json, sweep_json(result));
     if (cmd.csv) files::write_bytes_atomically(*cmd.csv, sweep_csv(result));

@@ -6,6 +6,9 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
 #include <iomanip>
 #include <map>
 #include <sstream>
@@ -29,11 +32,49 @@ const std::vector<Limit>& shader_limits() {
 
 using RayKey = std::array<double, 6>;
 
+// Floats between a and b (0: the same float).
+double ulps_between(float a, float b) {
+  const auto ordered = [](float x) {
+    std::int32_t i;
+    std::memcpy(&i, &x, sizeof i);
+    return i < 0 ? std::int64_t{INT32_MIN} - i : std::int64_t{i};
+  };
+  return static_cast<double>(std::llabs(ordered(a) - ordered(b)));
+}
+
+// The same marcher on the driver and on the CPU (float, double): rays whose outcome (t short of the far distance
+// or not) differs, t's largest difference in ulps where both stop short, and rays the CPU's evaluator could not
+// finish.
+void driver_against_cpu(const sdf::Scene& scene, const gpu::UserMarch& driver, const std::vector<double>& cpu_float,
+                        const std::vector<double>& cpu_double, std::map<std::string, double>& m) {
+  const auto hit = [&](double t) { return t < scene.march.max_dist; };
+  double differs = 0, double_differs = 0, ulps = 0, unfinished = 0;
+  for (std::size_t i = 0; i < driver.rays.size(); ++i) {
+    const double t = driver.rays[i].t;
+    if (std::isnan(cpu_float[i]) || std::isnan(cpu_double[i])) {
+      ++unfinished;
+      continue;
+    }
+    differs += hit(t) != hit(cpu_float[i]);
+    double_differs += hit(cpu_float[i]) != hit(cpu_double[i]);
+    if (hit(t) && hit(cpu_float[i]))
+      ulps = std::max(ulps, ulps_between(static_cast<float>(t), static_cast<float>(cpu_float[i])));
+  }
+  m["driver.outcome_differs"] = differs;
+  m["driver.t_ulps_max"] = ulps;
+  m["driver.cpu_unfinished"] = unfinished;
+  m["cpu.float_double_outcome_differs"] = double_differs;
+}
+
 }  // namespace
 
-sdf::Scene user_marcher_scene(const std::string& path, const gpu::UserMarcher& marcher, std::string& about) {
-  sdf::Scene scene = sdf::glsl_scene(path, marcher.map);
-  const std::string text = *sdf::read_text_file(path);  // glsl_scene has read it
+sdf::Scene user_marcher_scene(const UserShader& shader, const gpu::UserMarcher& marcher, std::string& about) {
+  sdf::GlslSpec spec;
+  spec.function = marcher.map;
+  spec.uniforms = shader.uniforms;
+  sdf::Scene scene = sdf::glsl_scene(shader.path, spec, shader.text);
+  const std::string& text = shader.text;
+  const std::string& path = shader.path;
   std::ostringstream said;
   said << "limits from the shader:";
   bool any = false;
@@ -55,8 +96,9 @@ sdf::Scene user_marcher_scene(const std::string& path, const gpu::UserMarcher& m
   return scene;
 }
 
-validation::SceneResult judge_user_marcher(const sdf::Scene& scene, const gpu::UserMarcher& marcher,
-                                            std::string& renderer, const validation::ValidateOptions& options) {
+validation::SceneResult judge_user_marcher(const sdf::Scene& scene, const UserShader& shader,
+                                            const gpu::UserMarcher& marcher, std::string& renderer,
+                                            const validation::ValidateOptions& options) {
   const march::Camera camera(scene.camera, scene.width, scene.height);
   const std::vector<glm::dvec2> pixels = validation::sampled_pixels(scene, options);
   std::vector<std::pair<glm::dvec3, glm::dvec3>> rays;
@@ -65,9 +107,7 @@ validation::SceneResult judge_user_marcher(const sdf::Scene& scene, const gpu::U
     rays.push_back({ray.origin, glm::normalize(ray.direction)});
   }
   const sdf::GlslField& field = *scene.root.glsl;
-  const std::string text = *sdf::read_text_file(field.spec().source);
-  const gpu::UserMarch marched =
-      gpu::march_on_driver(text, field.spec().source, marcher, field.spec().uniforms, rays);
+  const gpu::UserMarch marched = gpu::march_on_driver(shader.text, shader.path, marcher, shader.uniforms, rays);
   renderer = marched.renderer;
   // Each ray's march as the judge asks for it (by origin and direction, in units of the direction's length).
   std::map<RayKey, validation::MarchedRay> by_ray;
@@ -100,8 +140,44 @@ validation::SceneResult judge_user_marcher(const sdf::Scene& scene, const gpu::U
   subject.unit_roundoff = 0x1p-24;  // the driver's float
   subject.stops_either_side = true;  // |f| < SURF_DIST, as tutorials write the test; f < eps stops anywhere inside
   validation::SceneResult result = validation::validate_subject(scene, subject, options);
+  driver_against_cpu(scene, marched,
+                     gpu::march_on_cpu<float>(shader.text, shader.path, marcher, shader.uniforms, rays),
+                     gpu::march_on_cpu<double>(shader.text, shader.path, marcher, shader.uniforms, rays),
+                     result.metrics);
   result.scene += " (marcher " + marcher.march + " on the GL driver)";
   return result;
+}
+
+void set_shader_parameter(UserShader& shader, const std::string& name, const std::string& value) {
+  // A #define is a line of its own (GLSL's preprocessor directives are): "#  define NAME ...".
+  std::istringstream in(shader.text);
+  std::string line, text;
+  bool defined = false;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string hash, directive, word;
+    words >> hash;
+    if (hash == "#") words >> directive;
+    else if (hash.size() > 1 && hash[0] == '#') directive = hash.substr(1);
+    words >> word;
+    if (!hash.empty() && hash[0] == '#' && directive == "define" && word == name) {
+      line = "#define " + name + " " + value;
+      defined = true;
+    }
+    text += line + "\n";
+  }
+  if (defined) {
+    shader.text = text;
+    return;
+  }
+  if (!sdf::glsl_declares_uniform(shader.text, shader.path, name))
+    throw sdf::SceneError(shader.path + ": --vary glsl." + name + ": the shader has no #define " + name +
+                          " and no uniform " + name);
+  double number = 0;
+  std::istringstream parse(value);
+  if (!(parse >> number) || !parse.eof())
+    throw sdf::SceneError("--vary glsl." + name + "=" + value + ": a uniform's value is a number");
+  shader.uniforms[name] = {number};
 }
 
 }  // namespace marchcheck::commands

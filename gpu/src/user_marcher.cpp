@@ -3,19 +3,26 @@
 
 #include "marchcheck/sdf/glsl_field.hpp"
 
+#include <array>
+#include <memory>
+
 namespace marchcheck::gpu {
 
 namespace {
 
-// The pixel's invocation index and the input it reads; the distance (or t) of any of GLSL's result forms.
-constexpr const char* kPixelInput =
-    "layout(std430, binding = 0) readonly buffer MarchcheckInput { vec4 marchcheck_input[]; };\n"
-    "uniform uint marchcheck_width;\n"
-    "uint marchcheck_index() { return uint(gl_FragCoord.y) * marchcheck_width + uint(gl_FragCoord.x); }\n"
+// The distance (or t) of any of GLSL's result forms.
+constexpr const char* kFirstComponent =
     "float marchcheck_x(float d) { return d; }\n"
     "float marchcheck_x(vec2 d) { return d.x; }\n"
     "float marchcheck_x(vec3 d) { return d.x; }\n"
     "float marchcheck_x(vec4 d) { return d.x; }\n";
+
+// The pixel's invocation index and the input it reads, and kFirstComponent.
+const std::string kPixelInput =
+    std::string("layout(std430, binding = 0) readonly buffer MarchcheckInput { vec4 marchcheck_input[]; };\n"
+                "uniform uint marchcheck_width;\n"
+                "uint marchcheck_index() { return uint(gl_FragCoord.y) * marchcheck_width + uint(gl_FragCoord.x); }\n") +
+    kFirstComponent;
 
 std::vector<float> flattened(const std::vector<glm::dvec3>& points) {
   std::vector<float> out;
@@ -25,14 +32,31 @@ std::vector<float> flattened(const std::vector<glm::dvec3>& points) {
   return out;
 }
 
+// The marcher's call for ro and rd, its t as a float: "marchcheck_x(NAME(ro, rd))" or ".member" of a struct.
+std::string march_call(const UserMarcher& marcher, const std::string& ro, const std::string& rd) {
+  const auto dot = marcher.march.find('.');
+  const std::string member = dot == std::string::npos ? "" : marcher.march.substr(dot);
+  return "marchcheck_x(" + marcher.march.substr(0, dot) + "(" + ro + ", " + rd + ")" + member + ")";
+}
+
+// What a message about marchcheck's code around the marcher means.
+std::string marcher_expected(const UserMarcher& marcher) {
+  const auto dot = marcher.march.find('.');
+  return "no marcher " + marcher.march.substr(0, dot) + "(vec3 ro, vec3 rd) returning float, vec2, vec3 or vec4" +
+         (dot == std::string::npos ? "" : " or a struct with member " + marcher.march.substr(dot + 1)) +
+         (marcher.normal.empty() ? "" : ", or no normal " + marcher.normal + "(vec3) returning vec3");
+}
+
+// The source with its field's calls counted in marchcheck_calls.
+std::string counted_source(const std::string& text, const std::string& file, const UserMarcher& marcher) {
+  return sdf::run_first_in(text, file, marcher.map, "marchcheck_calls++;");
+}
+
 }  // namespace
 
 UserMarch march_on_driver(const std::string& text, const std::string& file, const UserMarcher& marcher,
                           const std::map<std::string, std::vector<double>>& uniforms,
                           const std::vector<std::pair<glm::dvec3, glm::dvec3>>& rays, double seconds_limit) {
-  const auto dot = marcher.march.find('.');
-  const std::string function = marcher.march.substr(0, dot);
-  const std::string member = dot == std::string::npos ? "" : marcher.march.substr(dot);
   std::string after = kPixelInput;
   after += "layout(location = 0) out vec4 marchcheck_march;\n"
            "layout(location = 1) out vec4 marchcheck_normal;\n"
@@ -40,18 +64,14 @@ UserMarch march_on_driver(const std::string& text, const std::string& file, cons
            "  uint i = marchcheck_index();\n"
            "  vec3 ro = marchcheck_input[2u * i].xyz, rd = marchcheck_input[2u * i + 1u].xyz;\n"
            "  marchcheck_calls = 0u;\n"
-           "  float t = marchcheck_x(" + function + "(ro, rd)" + member + ");\n"
+           "  float t = " + march_call(marcher, "ro", "rd") + ";\n"
            "  marchcheck_march = vec4(t, float(marchcheck_calls), 0.0, 0.0);\n";
   after += marcher.normal.empty() ? "  marchcheck_normal = vec4(0.0);\n"
                                   : "  marchcheck_normal = vec4(" + marcher.normal + "(ro + rd * t), 1.0);\n";
   after += "}\n";
-  const std::string expects = "no marcher " + function + "(vec3 ro, vec3 rd) returning float, vec2, vec3 or vec4" +
-                              (member.empty() ? "" : " or a struct with member " + member.substr(1)) +
-                              (marcher.normal.empty() ? "" : ", or no normal " + marcher.normal +
-                                                                 "(vec3) returning vec3");
-  const std::string counted = sdf::run_first_in(text, file, marcher.map, "marchcheck_calls++;");
+  const std::string counted = counted_source(text, file, marcher);
   DriverJob job;
-  job.shader = sdf::complete_glsl(counted, file, {"uint marchcheck_calls;\n", after, false, expects});
+  job.shader = sdf::complete_glsl(counted, file, {"uint marchcheck_calls;\n", after, false, marcher_expected(marcher)});
   job.file = file;
   for (const auto& [origin, direction] : rays)
     for (double c : {origin.x, origin.y, origin.z, 0.0, direction.x, direction.y, direction.z, 0.0})
@@ -71,10 +91,45 @@ UserMarch march_on_driver(const std::string& text, const std::string& file, cons
   return out;
 }
 
+template <class T>
+std::vector<double> march_on_cpu(const std::string& text, const std::string& file, const UserMarcher& marcher,
+                                 const std::map<std::string, std::vector<double>>& uniforms,
+                                 const std::vector<std::pair<glm::dvec3, glm::dvec3>>& rays) {
+  // The evaluator's input is one vec3: the direction; the origin is a uniform, one compiled field per origin (a
+  // pinhole camera's rays share theirs). The counter is declared ahead of the source, whose lines still count
+  // from 1.
+  const std::string source = "uint marchcheck_calls;\n#line 1\n" + counted_source(text, file, marcher) +
+                             "\nuniform vec3 marchcheck_ro;\n" + kFirstComponent +
+                             "float marchcheck_march(vec3 rd) { marchcheck_calls = 0u; return " +
+                             march_call(marcher, "marchcheck_ro", "rd") + "; }\n";
+  std::map<std::array<double, 3>, std::shared_ptr<const sdf::GlslField>> by_origin;
+  std::vector<double> out;
+  for (const auto& [origin, direction] : rays) {
+    auto& field = by_origin[{origin.x, origin.y, origin.z}];
+    if (!field) {
+      sdf::GlslSpec spec;
+      spec.function = "marchcheck_march";
+      spec.measured = false;
+      spec.uniforms = uniforms;
+      spec.uniforms["marchcheck_ro"] = {origin.x, origin.y, origin.z};
+      field = std::make_shared<const sdf::GlslField>(spec, source, file);
+    }
+    out.push_back(static_cast<double>(field->distance(glm::vec<3, T>(direction))));
+  }
+  return out;
+}
+
+template std::vector<double> march_on_cpu<float>(const std::string&, const std::string&, const UserMarcher&,
+                                                 const std::map<std::string, std::vector<double>>&,
+                                                 const std::vector<std::pair<glm::dvec3, glm::dvec3>>&);
+template std::vector<double> march_on_cpu<double>(const std::string&, const std::string&, const UserMarcher&,
+                                                  const std::map<std::string, std::vector<double>>&,
+                                                  const std::vector<std::pair<glm::dvec3, glm::dvec3>>&);
+
 std::vector<float> field_on_driver(const std::string& text, const std::string& file, const std::string& function,
                                    const std::map<std::string, std::vector<double>>& uniforms,
                                    const std::vector<glm::dvec3>& points, double seconds_limit) {
-  const std::string after = std::string(kPixelInput) +
+  const std::string after = kPixelInput +
                             "layout(location = 0) out vec4 marchcheck_result;\n"
                             "void main() { marchcheck_result = vec4(marchcheck_x(" + function +
                             "(marchcheck_input[marchcheck_index()].xyz))); }\n";

@@ -7,6 +7,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
+#include <sstream>
 #include <fcntl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -393,6 +396,9 @@ TEST_F(Cli, AUserMarcherOnTheDriverPassesAndEachKnownBugIsCaught) {
               std::string::npos)
         << r.output;
     EXPECT_NE(r.output.find("map calls counted, on "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("driver against CPU (the same marcher, float): 0 rays with another outcome"),
+              std::string::npos)
+        << r.output;
   }
 }
 
@@ -405,6 +411,33 @@ TEST_F(Cli, AUserMarcherThatIsNotThereOrHasNoDriverIsBadInput) {
                                  " validate " + file + " --march rayMarch");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find(file + ": no GL driver to run the marcher on: "), std::string::npos) << r.output;
+}
+
+// The shader's own parameters as sweep axes: a #define rewritten per combination changes what its marcher does
+// (a smaller SURF_DIST: smaller t errors, more map calls per ray); a name the shader has neither as a #define nor
+// as a uniform, or an axis not of the shader's, is bad input. Broken variant: an override that did not reach the
+// shader would give equal rows.
+TEST_F(Cli, SweepVariesAUserMarchersOwnDefines) {
+  const std::string file = std::string(MARCHCHECK_TEST_DATA) + "/glsl/user_marcher.glsl";
+  const CommandRun r =
+      run("sweep " + file + " --march rayMarch --normal calcNormal --vary glsl.SURF_DIST=0.01,0.0001");
+  if (r.status == 2 && r.output.find("no GL driver") != std::string::npos) GTEST_SKIP() << r.output;
+  ASSERT_EQ(r.status, 0) << r.output;
+  // Each row: SURF_DIST, hit.t_err_p99, 5 counts, cost.evals_per_pixel (map calls per ray), ...
+  std::map<std::string, std::pair<double, double>> error_and_cost;
+  std::istringstream lines(r.output);
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream words(line);
+    std::vector<std::string> w{std::istream_iterator<std::string>(words), {}};
+    if (w.size() >= 9 && (w[0] == "0.01" || w[0] == "0.0001")) error_and_cost[w[0]] = {std::stod(w[1]), std::stod(w[7])};
+  }
+  ASSERT_EQ(error_and_cost.size(), 2u) << r.output;
+  EXPECT_LT(error_and_cost["0.0001"].first, error_and_cost["0.01"].first / 10) << r.output;
+  EXPECT_GT(error_and_cost["0.0001"].second, error_and_cost["0.01"].second) << r.output;
+  expect_bad_input("sweep " + file + " --march rayMarch --vary glsl.NOPE=1",
+                   file + ": --vary glsl.NOPE: the shader has no #define NOPE and no uniform NOPE");
+  expect_bad_input("sweep " + file + " --march rayMarch --vary max_steps=4",
+                   "--vary max_steps=4: with --march, the axes are the shader's own (glsl.NAME)");
 }
 
 }  // namespace

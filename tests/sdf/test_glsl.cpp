@@ -221,5 +221,21 @@ TEST(Glsl, AKindNotDeclaredIsMeasured) {
   EXPECT_NE(info.reason.find("measured"), std::string::npos);
 }
 
+// What the GL driver's run and the sweep rely on: glslang's view of a source's uniforms and of where its map's
+// body begins. Broken variants: a const or a #define taken for a uniform; the counter put before the body.
+TEST(Glsl, UniformsAreFoundAndAStatementGoesFirstInTheBody) {
+  const std::string code = "#define K 2.0\nconst float C = 1.0;\nuniform vec3 offset;\n"
+                           "float map(vec3 p)\n  /* the body */ {\n  return length(p + offset) - C * K + iTime;\n}\n";
+  EXPECT_TRUE(glsl_declares_uniform(code, "u.glsl", "offset"));
+  EXPECT_TRUE(glsl_declares_uniform(code, "u.glsl", "iTime")) << "Shadertoy's inputs are declared for the source";
+  EXPECT_FALSE(glsl_declares_uniform(code, "u.glsl", "C"));
+  EXPECT_FALSE(glsl_declares_uniform(code, "u.glsl", "K"));
+  const std::string counted = run_first_in(code, "u.glsl", "map", "k++;");
+  EXPECT_NE(counted.find("/* the body */ { k++; \n  return"), std::string::npos) << counted;
+  EXPECT_EQ(std::count(counted.begin(), counted.end(), '\n'), std::count(code.begin(), code.end(), '\n'))
+      << "lines keep their numbers";
+  EXPECT_THROW(run_first_in(code, "u.glsl", "sdf", "k++;"), GlslError);
+}
+
 }  // namespace
 }  // namespace marchcheck::sdf

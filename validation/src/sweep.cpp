@@ -76,22 +76,9 @@ SweepResult sweep(const sdf::Scene& scene, const std::vector<SweepAxis>& axes, c
         throw sdf::SceneError(std::string("--vary ") + e.what());
       }
   }
-  SweepResult result{scene.name, axes, options.error_metric, options.targets, {}, std::nullopt};
-  size_t total = 1;
-  for (const auto& axis : axes) total *= axis.values.size();
-  for (size_t index = 0; index < total; ++index) {
-    SweepPoint point;
+  return sweep_combinations(scene.name, axes, options, [&](SweepPoint& point) {
     sdf::Scene s = scene;
-    size_t rest = index;
-    std::vector<size_t> digits(axes.size());
-    for (size_t a = axes.size(); a-- > 0;) {
-      digits[a] = rest % axes[a].values.size();
-      rest /= axes[a].values.size();
-    }
-    for (size_t a = 0; a < axes.size(); ++a) {
-      point.settings.emplace_back(axes[a].key, axes[a].values[digits[a]]);
-      sdf::apply_setting(s, axes[a].key, axes[a].values[digits[a]]);
-    }
+    for (const auto& [key, value] : point.settings) sdf::apply_setting(s, key, value);
     const SceneResult validated = validate_scene(s, options.validate);
     point.metrics = validated.metrics;
     point.pass = validated.pass();
@@ -104,6 +91,24 @@ SweepResult sweep(const sdf::Scene& scene, const std::vector<SweepAxis>& axes, c
       seconds.push_back(render.seconds);
     }
     point.metrics["cost.seconds"] = median(seconds);
+  });
+}
+
+SweepResult sweep_combinations(const std::string& name, const std::vector<SweepAxis>& axes,
+                               const SweepOptions& options, const std::function<void(SweepPoint&)>& measure) {
+  SweepResult result{name, axes, options.error_metric, options.targets, {}, std::nullopt};
+  size_t total = 1;
+  for (const auto& axis : axes) total *= axis.values.size();
+  for (size_t index = 0; index < total; ++index) {
+    SweepPoint point;
+    size_t rest = index;
+    std::vector<size_t> digits(axes.size());
+    for (size_t a = axes.size(); a-- > 0;) {
+      digits[a] = rest % axes[a].values.size();
+      rest /= axes[a].values.size();
+    }
+    for (size_t a = 0; a < axes.size(); ++a) point.settings.emplace_back(axes[a].key, axes[a].values[digits[a]]);
+    measure(point);
     point.meets_targets = std::all_of(options.targets.begin(), options.targets.end(), [&](const SweepTarget& t) {
       return metric_or_nan(point, t.metric) <= t.value;
     });

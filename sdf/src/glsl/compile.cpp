@@ -8,6 +8,7 @@
 #include <spirv-tools/optimizer.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <memory>
 #include <mutex>
@@ -147,6 +148,15 @@ struct DefinitionFinder : glslang::TIntermTraverser {
   }
 };
 
+// Whether a uniform of a name is among the shader's globals (the linker objects glslang lists).
+struct UniformFinder : glslang::TIntermTraverser {
+  std::string name;
+  bool found = false;
+  void visitSymbol(glslang::TIntermSymbol* symbol) override {
+    found = found || (symbol->getQualifier().storage == glslang::EvqUniform && symbol->getName().c_str() == name);
+  }
+};
+
 }  // namespace
 
 std::vector<std::uint32_t> compile_field(const std::string& source, const std::string& file,
@@ -180,6 +190,14 @@ std::string complete_glsl(const std::string& source, const std::string& file, co
   return glsl::parsed(source, file, entry).text;
 }
 
+bool glsl_declares_uniform(const std::string& source, const std::string& file, const std::string& name) {
+  glsl::Parsed p = glsl::parsed(source, file, {"", "void main() {}\n", false, ""});
+  glsl::UniformFinder finder;
+  finder.name = name;
+  p.shader->getIntermediate()->getTreeRoot()->traverse(&finder);
+  return finder.found;
+}
+
 std::string run_first_in(const std::string& source, const std::string& file, const std::string& function,
                          const std::string& statement) {
   glsl::Parsed p = glsl::parsed(source, file, {"", "void main() {}\n", false, ""});
@@ -200,8 +218,20 @@ std::string run_first_in(const std::string& source, const std::string& file, con
   }
   pos += static_cast<size_t>(finder.at->column - 1);
   if (pos >= source.size() || source[pos] != ')') throw fail();
-  pos = source.find_first_not_of(" \t\r\n", pos + 1);
-  if (pos == std::string::npos || source[pos] != '{') throw fail();
+  // Past white space and comments, to the '{'.
+  for (++pos; pos < source.size();) {
+    if (std::isspace(static_cast<unsigned char>(source[pos]))) {
+      ++pos;
+    } else if (source.compare(pos, 2, "//") == 0) {
+      pos = source.find('\n', pos);
+    } else if (source.compare(pos, 2, "/*") == 0) {
+      pos = source.find("*/", pos + 2);
+      if (pos != std::string::npos) pos += 2;
+    } else {
+      break;
+    }
+  }
+  if (pos >= source.size() || source[pos] != '{') throw fail();
   return source.substr(0, pos + 1) + " " + statement + " " + source.substr(pos + 1);
 }
 

@@ -41,12 +41,17 @@ Scene glsl_scene(const std::string& path, const std::string& function) {
   const std::optional<std::string> text = read_text_file(path);
   if (!text) throw SceneError(path + ": cannot read the GLSL file");
   GlslSpec spec;
-  spec.source = std::filesystem::absolute(path).lexically_normal().string();
   spec.function = function;
+  return glsl_scene(path, spec, *text);
+}
+
+Scene glsl_scene(const std::string& path, GlslSpec spec, const std::string& text) {
+  const std::string function = spec.function;
+  spec.source = std::filesystem::absolute(path).lexically_normal().string();
   Scene s;
   s.name = std::filesystem::path(path).stem().string();
   s.root = make(Op::glsl);
-  s.root.glsl = std::make_shared<const GlslField>(spec, *text, path);
+  s.root.glsl = std::make_shared<const GlslField>(spec, text, path);
   s.root.source = spec.source;
   const std::optional<Box3> region = negative_region(*s.root.glsl);
   if (!region) throw SceneError(path + ": " + function + " is nowhere negative in [-512, 512]^3: no surface to frame");

@@ -65,6 +65,9 @@ struct SweepCommand {
   std::optional<std::string> json, csv;
   std::vector<std::string> sets;
   bool progress = false;  // a progress bar on err
+  // A .glsl scene's own marcher on the GL driver (as validate's --march), its axes the shader's own parameters:
+  // glsl.NAME for a #define or a uniform.
+  std::string march, normal, function = "map";
 };
 int run_sweep(const SweepCommand& cmd, std::ostream& out, std::ostream& err);
 

@@ -41,6 +41,14 @@ UserMarch march_on_driver(const std::string& text, const std::string& file, cons
                           const std::map<std::string, std::vector<double>>& uniforms,
                           const std::vector<std::pair<glm::dvec3, glm::dvec3>>& rays, double seconds_limit = 60);
 
+// The same marcher for the same rays on the CPU, by marchcheck's evaluator of the source's SPIR-V, in float (as
+// IEEE computes it: what the driver should match) or double: each ray's t, NaN where the evaluator's bound on
+// instructions ended it (GlslField::kMaxSteps).
+template <class T>
+std::vector<double> march_on_cpu(const std::string& text, const std::string& file, const UserMarcher& marcher,
+                                 const std::map<std::string, std::vector<double>>& uniforms,
+                                 const std::vector<std::pair<glm::dvec3, glm::dvec3>>& rays);
+
 // The field's distance (its result's .x) at each point, in the driver's float.
 std::vector<float> field_on_driver(const std::string& text, const std::string& file, const std::string& function,
                                    const std::map<std::string, std::vector<double>>& uniforms,

@@ -84,5 +84,11 @@ std::string run_first_in(const std::string& source, const std::string& file, con
 // with hard shadows. Throws
 // GlslError or SceneError naming the file.
 Scene glsl_scene(const std::string& path, const std::string& function = "map");
+// The same scene for the file's text as given (a sweep's overridden #defines) and the spec's function, uniforms
+// and kind (its source becomes the path).
+Scene glsl_scene(const std::string& path, GlslSpec spec, const std::string& text);
+
+// Whether the source declares a uniform of that name (glslang's view of its globals).
+bool glsl_declares_uniform(const std::string& source, const std::string& file, const std::string& name);
 
 }  // namespace marchcheck::sdf

@@ -60,6 +60,12 @@ struct SweepResult {
 // Throws sdf::SceneError when a key or value does not apply to the scene (before any work is done).
 SweepResult sweep(const sdf::Scene& scene, const std::vector<SweepAxis>& axes, const SweepOptions& options = {});
 
+// Every combination of the axes (the last varying fastest), measured by `measure` (given the point with its
+// settings: it fills metrics, cost.evals_per_pixel and cost.seconds among them, and pass), then which meet the
+// targets, the Pareto fronts and the cheapest meeting them: what sweep does for a scene's own settings, and what a
+// sweep of anything else (a user's shader parameters) does too.
+SweepResult sweep_combinations(const std::string& name, const std::vector<SweepAxis>& axes,
+                               const SweepOptions& options, const std::function<void(SweepPoint&)>& measure);
 // Marks which points no other point dominates on (error, cost); points without the error metric are never on it.
 void mark_pareto(std::vector<SweepPoint>& points, const std::string& error_metric);
 
