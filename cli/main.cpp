@@ -78,7 +78,8 @@ int main(int argc, char** argv) {
   auto* report_cmd = app.add_subcommand("report", "The accuracy report: validate every built-in scene, run the "
                                                   "standard sweeps, write an HTML report");
   report_cmd->add_option("-o,--output", report.dir, "Report folder (replaced as a whole)")->capture_default_str();
-  report_cmd->add_option("scenes", report.scenes, "Scenes to report on (default: every built-in)");
+  report_cmd->add_option("scenes", report.scenes,
+                         "Scenes to report on: names, scene files, .glsl files, all (default: every built-in)");
   report_cmd->add_flag("--quick", report.quick, "Fewer sweep points and smaller images");
   report_cmd->add_option("--set", report.sets, "Override a scene or marching parameter KEY=VALUE (repeatable)");
 

@@ -70,7 +70,8 @@ void apply_size(sdf::Scene& scene, const std::string& size) {
 }  // namespace
 
 sdf::Scene load_scene(const std::string& name_or_path, const std::vector<std::string>& sets) {
-  sdf::Scene scene = sdf::resolve_scene(name_or_path);
+  sdf::Scene scene =
+      name_or_path.ends_with(".glsl") ? sdf::glsl_scene(name_or_path) : sdf::resolve_scene(name_or_path);
   apply_sets(scene, sets);
   sdf::compile(scene.root, scene.time);
   return scene;
@@ -185,16 +186,16 @@ int validate_user_marcher(const ValidateCommand& cmd, std::ostream& out, std::os
   for (const auto& path : cmd.scenes) {
     try {
       if (!path.ends_with(".glsl")) throw sdf::SceneError(path + ": --march runs a .glsl file's own marcher");
-      std::string limits, renderer;
+      std::string renderer;
       const UserShader shader = read_user_shader(path);
-      sdf::Scene scene = user_marcher_scene(shader, marcher, limits);
+      sdf::Scene scene = user_marcher_scene(shader, marcher);
       apply_sets(scene, cmd.sets);
       sdf::compile(scene.root, scene.time);
       results.push_back(judge_user_marcher(scene, shader, marcher, renderer));
       validation::print_checks(results.back(), out);
       out << "  scene: " << scene.description << "\n  marcher: " << cmd.march
-          << (cmd.normal.empty() ? "" : ", normal " + cmd.normal) << ", map calls counted, on " << renderer << "; "
-          << limits << "; march.safe_step_ratio assumes steps of f\n";
+          << (cmd.normal.empty() ? "" : ", normal " + cmd.normal) << ", map calls counted, on " << renderer
+          << "; march.safe_step_ratio assumes steps of f\n";
       const auto& m = results.back().metrics;
       out << "  driver against CPU (the same marcher, float): " << m.at("driver.outcome_differs")
           << " rays with another outcome, t within " << m.at("driver.t_ulps_max") << " ulps where both hit; float "
@@ -385,8 +386,7 @@ int sweep_user_marcher(const SweepCommand& cmd, std::ostream& out, std::ostream&
     result = validation::sweep_combinations(cmd.scene, axes, options, [&](validation::SweepPoint& point) {
       UserShader s = shader;
       for (const auto& [key, value] : point.settings) set_shader_parameter(s, key.substr(5), value);
-      std::string limits;
-      sdf::Scene scene = user_marcher_scene(s, marcher, limits);
+      sdf::Scene scene = user_marcher_scene(s, marcher);
       apply_sets(scene, cmd.sets);
       sdf::compile(scene.root, scene.time);
       const auto start = std::chrono::steady_clock::now();
@@ -511,8 +511,9 @@ int run_report(const ReportCommand& cmd, std::ostream& out, std::ostream& err) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<sdf::Scene> scenes;
   try {
-    for (const auto& name : cmd.scenes.empty() ? sdf::builtin_scene_names() : cmd.scenes)
-      scenes.push_back(load_scene(name, cmd.sets));
+    for (const auto& name : cmd.scenes.empty() ? std::vector<std::string>{"all"} : cmd.scenes)
+      for (const auto& n : name == "all" ? sdf::builtin_scene_names() : std::vector<std::string>{name})
+        scenes.push_back(load_scene(n, cmd.sets));
   } catch (const std::exception& e) {
     err << "marchcheck report: " << e.what() << "\n";
     return kBadInput;

@@ -9,26 +9,12 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
-#include <iomanip>
 #include <map>
 #include <sstream>
 
 namespace marchcheck::commands {
 
 namespace {
-
-// What a shader calls its marcher's limits, most common spelling first.
-struct Limit {
-  const char* setting;  // the scene's march setting it becomes
-  std::vector<const char*> names;
-};
-const std::vector<Limit>& shader_limits() {
-  static const std::vector<Limit> limits = {
-      {"max_steps", {"MAX_STEPS", "MAX_STEP", "MAX_MARCHING_STEPS", "MAX_ITERATIONS", "STEPS"}},
-      {"max_dist", {"MAX_DIST", "MAX_DISTANCE", "FAR", "MAX_T"}},
-      {"hit_eps", {"SURF_DIST", "SURFACE_DIST", "EPSILON", "MIN_DIST", "EPS"}}};
-  return limits;
-}
 
 using RayKey = std::array<double, 6>;
 
@@ -68,28 +54,11 @@ void driver_against_cpu(const sdf::Scene& scene, const gpu::UserMarch& driver, c
 
 }  // namespace
 
-sdf::Scene user_marcher_scene(const UserShader& shader, const gpu::UserMarcher& marcher, std::string& about) {
+sdf::Scene user_marcher_scene(const UserShader& shader, const gpu::UserMarcher& marcher) {
   sdf::GlslSpec spec;
   spec.function = marcher.map;
   spec.uniforms = shader.uniforms;
   sdf::Scene scene = sdf::glsl_scene(shader.path, spec, shader.text);
-  const std::string& text = shader.text;
-  const std::string& path = shader.path;
-  std::ostringstream said;
-  said << "limits from the shader:";
-  bool any = false;
-  for (const Limit& limit : shader_limits())
-    for (const char* name : limit.names)
-      if (const std::optional<double> v = gpu::glsl_constant(text, path, name)) {
-        std::ostringstream value;
-        value << std::setprecision(17) << *v;
-        sdf::apply_setting(scene, limit.setting, value.str());
-        said << " " << name << " = " << *v << " (" << limit.setting << ")";
-        any = true;
-        break;
-      }
-  if (!any) said << " none found (MAX_STEPS, MAX_DIST, SURF_DIST): the scene's defaults";
-  about = said.str();
   sdf::apply_setting(scene, "precision", "float");
   // What march.safe_step_ratio assumes of the user's marcher: steps of f, as tutorials write it.
   sdf::apply_setting(scene, "marcher", "sphere");

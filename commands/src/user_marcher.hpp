@@ -18,10 +18,9 @@ struct UserShader {
   std::map<std::string, std::vector<double>> uniforms;
 };
 
-// The scene a GLSL file's marcher is judged in: the file's own (glsl_scene), marched in float in steps of f,
-// with the step limit, far distance and hit threshold the shader names (MAX_STEPS, MAX_DIST, SURF_DIST or their
-// common spellings). `about` says what was read.
-sdf::Scene user_marcher_scene(const UserShader& shader, const gpu::UserMarcher& marcher, std::string& about);
+// The scene a GLSL file's marcher is judged in: the file's own (glsl_scene, with the shader's own limits), marched
+// in float in steps of f.
+sdf::Scene user_marcher_scene(const UserShader& shader, const gpu::UserMarcher& marcher);
 
 // The marcher's rays through the scene's camera, marched on the driver and judged by validate's checks against the
 // references of the scene; with the driver against the CPU (driver.*, cpu.*). Throws sdf::GlslError,

@@ -147,17 +147,4 @@ std::vector<float> field_on_driver(const std::string& text, const std::string& f
   return out;
 }
 
-std::optional<double> glsl_constant(const std::string& text, const std::string& file, const std::string& name) {
-  sdf::GlslSpec spec;
-  spec.function = "marchcheck_constant";
-  spec.measured = false;
-  try {
-    const sdf::GlslField probe(spec, text + "\nfloat marchcheck_constant(vec3 p) { return float(" + name + "); }\n",
-                               file);
-    return probe.distance(glm::dvec3(0));
-  } catch (const sdf::GlslError&) {
-    return std::nullopt;  // no such name (the source's own errors surface when it is compiled for real)
-  }
-}
-
 }  // namespace marchcheck::gpu

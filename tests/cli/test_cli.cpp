@@ -440,4 +440,38 @@ TEST_F(Cli, SweepVariesAUserMarchersOwnDefines) {
                    "--vary max_steps=4: with --march, the axes are the shader's own (glsl.NAME)");
 }
 
+// The report renders a GLSL scene like any other (the main job's examples/shadertoy_map.glsl): its row, its image
+// pair, its pass; and `all` still names every built-in beside it.
+TEST_F(Cli, TheReportRendersAGlslSceneLikeAnyOther) {
+  const std::string glsl = std::string(MARCHCHECK_EXAMPLES) + "/shadertoy_map.glsl";
+  const CommandRun r = run("report --quick -o " + path("report") + " crum-torus " + glsl);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string html = contents("report/index.html");
+  EXPECT_NE(html.find(">shadertoy_map</a>"), std::string::npos) << "its row in the scene table";
+  bool image = false;
+  for (const auto& entry : std::filesystem::directory_iterator(path("report/images")))
+    image = image || entry.path().filename().string().starts_with("shadertoy_map");
+  EXPECT_TRUE(image) << "its marched and reference images";
+  EXPECT_EQ(run("validate " + glsl).status, 0) << "the example passes: the main job's report stays green";
+}
+
+// A driver that departs from IEEE float is seen as rays whose outcome differs from the CPU's: llvmpipe's dot() is
+// not the sequential sum (it differs from x x + y y + z z in about a quarter of inputs), so a "marcher" that
+// misses exactly where the two differ has rays with another outcome there, and none on the CPU. On another
+// driver the count is only reported.
+TEST_F(Cli, ADriverThatDepartsFromIeeeIsSeenAsRaysWithAnotherOutcome) {
+  std::ofstream(path("dot.glsl")) << "#define MAX_DIST 50.0\nfloat map(vec3 p) { return length(p) - 1.0; }\n"
+                                     "float probe(vec3 ro, vec3 rd) { vec3 v = rd * 3.7;\n"
+                                     "  float s = v.x * v.x; s = s + v.y * v.y; s = s + v.z * v.z;\n"
+                                     "  return dot(v, v) == s ? 1.0 : 2.0 * MAX_DIST; }\n";
+  const CommandRun r = run("validate " + path("dot.glsl") + " --march probe");
+  if (r.status == 2 && r.output.find("no GL driver") != std::string::npos) GTEST_SKIP() << r.output;
+  const std::string said = "driver against CPU (the same marcher, float): ";
+  const size_t at = r.output.find(said);
+  ASSERT_NE(at, std::string::npos) << r.output;
+  const int differs = std::atoi(r.output.c_str() + at + said.size());
+  if (r.output.find("on llvmpipe") == std::string::npos) GTEST_SKIP() << "not llvmpipe: " << differs << " rays";
+  EXPECT_GT(differs, 100) << r.output;  // of 2304 rays
+}
+
 }  // namespace

@@ -129,13 +129,6 @@ TEST(Driver, UniformsAreSetByName) {
   EXPECT_EQ(v[0], 3.25f);
 }
 
-TEST(Driver, ConstantsOfTheSourceAreRead) {
-  const std::string code = "#define MAX_STEPS 64\nconst float FAR = 20.0;\nfloat map(vec3 p) { return p.x; }\n";
-  EXPECT_EQ(glsl_constant(code, "c.glsl", "MAX_STEPS"), 64.0);
-  EXPECT_EQ(glsl_constant(code, "c.glsl", "FAR"), 20.0);
-  EXPECT_EQ(glsl_constant(code, "c.glsl", "SURF_DIST"), std::nullopt);
-}
-
 // The marcher's map calls are counted per ray, and a map defined through a macro is refused by name.
 TEST(Driver, MapCallsAreCountedPerRay) {
   REQUIRE_DRIVER();

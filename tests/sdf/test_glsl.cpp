@@ -237,5 +237,14 @@ TEST(Glsl, UniformsAreFoundAndAStatementGoesFirstInTheBody) {
   EXPECT_THROW(run_first_in(code, "u.glsl", "sdf", "k++;"), GlslError);
 }
 
+// A shader's own limits, read as its marcher sees them: a #define, a const global, or none. Broken variant: a
+// name the source lacks read as 0 would set a step limit of 0.
+TEST(Glsl, ConstantsOfTheSourceAreRead) {
+  const std::string code = "#define MAX_STEPS 64\nconst float FAR = 20.0;\nfloat map(vec3 p) { return p.x; }\n";
+  EXPECT_EQ(glsl_constant(code, "c.glsl", "MAX_STEPS"), 64.0);
+  EXPECT_EQ(glsl_constant(code, "c.glsl", "FAR"), 20.0);
+  EXPECT_EQ(glsl_constant(code, "c.glsl", "SURF_DIST"), std::nullopt);
+}
+
 }  // namespace
 }  // namespace marchcheck::sdf

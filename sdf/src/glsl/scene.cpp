@@ -5,9 +5,11 @@
 
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
 #include <numbers>
 #include <optional>
 #include <sstream>
+#include <vector>
 
 namespace marchcheck::sdf {
 
@@ -35,7 +37,51 @@ std::optional<Box3> negative_region(const GlslField& field) {
   return std::nullopt;
 }
 
+// What a shader calls its marcher's limits, most common spelling first.
+struct Limit {
+  const char* setting;  // the scene's march setting it becomes
+  std::vector<const char*> names;
+};
+const std::vector<Limit>& shader_limits() {
+  static const std::vector<Limit> limits = {
+      {"max_steps", {"MAX_STEPS", "MAX_STEP", "MAX_MARCHING_STEPS", "MAX_ITERATIONS", "STEPS"}},
+      {"max_dist", {"MAX_DIST", "MAX_DISTANCE", "FAR", "MAX_T"}},
+      {"hit_eps", {"SURF_DIST", "SURFACE_DIST", "EPSILON", "MIN_DIST", "EPS"}}};
+  return limits;
+}
+
+// The shader's limits applied to the scene, as the description says them.
+std::string apply_shader_limits(Scene& scene, const std::string& text, const std::string& path) {
+  std::ostringstream said;
+  said << "limits from the shader:";
+  bool any = false;
+  for (const Limit& limit : shader_limits())
+    for (const char* name : limit.names)
+      if (const std::optional<double> v = glsl_constant(text, path, name)) {
+        std::ostringstream value;
+        value << std::setprecision(17) << *v;
+        apply_setting(scene, limit.setting, value.str());
+        said << " " << name << " = " << *v << " (" << limit.setting << ")";
+        any = true;
+        break;
+      }
+  if (!any) said << " none (MAX_STEPS, MAX_DIST, SURF_DIST): marchcheck's defaults";
+  return said.str();
+}
+
 }  // namespace
+
+std::optional<double> glsl_constant(const std::string& text, const std::string& file, const std::string& name) {
+  GlslSpec spec;
+  spec.function = "marchcheck_constant";
+  spec.measured = false;
+  try {
+    const GlslField probe(spec, text + "\nfloat marchcheck_constant(vec3 p) { return float(" + name + "); }\n", file);
+    return probe.distance(glm::dvec3(0));
+  } catch (const GlslError&) {
+    return std::nullopt;  // no such name (the source's own errors surface when it is compiled for real)
+  }
+}
 
 Scene glsl_scene(const std::string& path, const std::string& function) {
   const std::optional<std::string> text = read_text_file(path);
@@ -62,6 +108,7 @@ Scene glsl_scene(const std::string& path, GlslSpec spec, const std::string& text
   s.camera.position = region->center() + glm::normalize(glm::dvec3(0.6, 0.5, 1)) *
                                              (1.3 * radius / std::tan(s.camera.fov_deg * std::numbers::pi / 360));
   s.march.max_dist = 4 * glm::length(s.camera.position - s.camera.target) + 2 * radius;
+  const std::string limits = apply_shader_limits(s, text, path);
   // Steps of f / L with the measured constant: a field of unknown kind is not trusted to be 1-Lipschitz.
   s.march.marcher = Marcher::scaled;
   Light light;
@@ -71,7 +118,7 @@ Scene glsl_scene(const std::string& path, GlslSpec spec, const std::string& text
   std::ostringstream about;
   about << "GLSL field " << function << " of " << path << "; camera framing the region where it is negative, ["
         << region->lo.x << ", " << region->hi.x << "] x [" << region->lo.y << ", " << region->hi.y << "] x ["
-        << region->lo.z << ", " << region->hi.z << "], found by sampling (override with --set camera.*)";
+        << region->lo.z << ", " << region->hi.z << "], found by sampling (override with --set camera.*); " << limits;
   s.description = about.str();
   return s;
 }

@@ -11,9 +11,9 @@
 
 namespace marchcheck::commands {
 
-// A built-in scene or a scene file, with "--set KEY=VALUE" overrides applied and its tree compiled (tree errors
-// come before any work): what every command that takes scenes loads them with. Throws std::exception naming the
-// scene or the option at fault.
+// A built-in scene, a scene file or a GLSL file (its scene: sdf::glsl_scene), with "--set KEY=VALUE" overrides
+// applied and its tree compiled (tree errors come before any work): what every command that takes scenes loads
+// them with. Throws std::exception naming the scene or the option at fault.
 sdf::Scene load_scene(const std::string& name_or_path, const std::vector<std::string>& sets);
 
 struct ScenesCommand {
@@ -79,7 +79,7 @@ int run_compare(const CompareCommand& cmd, std::ostream& out, std::ostream& err)
 
 struct ReportCommand {
   std::string dir = "reports/out";
-  std::vector<std::string> scenes;  // empty: every built-in
+  std::vector<std::string> scenes;  // names, scene files, .glsl files; "all" or empty: every built-in
   std::vector<std::string> sets;
   bool quick = false;     // fewer sweep points and smaller renders (for tests)
   bool progress = false;  // a line per step on err

@@ -54,8 +54,4 @@ std::vector<float> field_on_driver(const std::string& text, const std::string& f
                                    const std::map<std::string, std::vector<double>>& uniforms,
                                    const std::vector<glm::dvec3>& points, double seconds_limit = 60);
 
-// A constant of the source (a #define or const global, such as MAX_STEPS), as a number; nullopt when the source
-// has none by that name.
-std::optional<double> glsl_constant(const std::string& text, const std::string& file, const std::string& name);
-
 }  // namespace marchcheck::gpu

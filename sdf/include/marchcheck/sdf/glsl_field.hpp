@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -79,7 +80,9 @@ std::string complete_glsl(const std::string& source, const std::string& file, co
 std::string run_first_in(const std::string& source, const std::string& file, const std::string& function,
                          const std::string& statement);
 
-// The scene around a GLSL file given alone: its field (kind unknown: measured), marched in steps of f / L, a camera
+// The scene around a GLSL file given alone: its field (kind unknown: measured), marched in steps of f / L with the
+// step limit, far distance and hit threshold the shader names for its own marcher (MAX_STEPS, MAX_DIST,
+// SURF_DIST or their common spellings; stated in the description, else marchcheck's defaults), a camera
 // framing the region where it is negative (found by sampling, stated in the description), a directional light
 // with hard shadows. Throws
 // GlslError or SceneError naming the file.
@@ -87,6 +90,10 @@ Scene glsl_scene(const std::string& path, const std::string& function = "map");
 // The same scene for the file's text as given (a sweep's overridden #defines) and the spec's function, uniforms
 // and kind (its source becomes the path).
 Scene glsl_scene(const std::string& path, GlslSpec spec, const std::string& text);
+
+// A constant of the source (a #define or const global, such as MAX_STEPS), as a number; nullopt when the source
+// has none by that name.
+std::optional<double> glsl_constant(const std::string& text, const std::string& file, const std::string& name);
 
 // Whether the source declares a uniform of that name (glslang's view of its globals).
 bool glsl_declares_uniform(const std::string& source, const std::string& file, const std::string& name);
