@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
   auto* scenes_cmd = app.add_subcommand("scenes", "List the built-in scenes, their SDF kind and Lipschitz bound");
   scenes_cmd->add_flag("--json", scenes.json, "Print the list as JSON");
   scenes_cmd->add_option("--export", scenes.export_name, "Print the named built-in scene as a scene file");
+  scenes_cmd->add_option("--export-glsl", scenes.export_glsl,
+                         "Print a built-in scene or a scene file as a Shadertoy shader (mainImage, map, marcher)");
 
   RenderCommand render;
   auto* render_cmd = app.add_subcommand("render", "Render a scene (PNG: 8-bit sRGB, EXR: float) and its AOVs");

@@ -6,6 +6,7 @@
 #include "marchcheck/reports/results_io.hpp"
 #include "marchcheck/reports/report.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
+#include "marchcheck/sdf/glsl_export.hpp"
 #include "marchcheck/sdf/glsl_field.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/validation/stability.hpp"
@@ -99,6 +100,15 @@ std::vector<sdf::Scene> glsl_scenes(const std::string& path, const std::string& 
 }
 
 int run_scenes(const ScenesCommand& cmd, std::ostream& out, std::ostream& err) {
+  if (cmd.export_glsl) {
+    try {
+      out << sdf::shadertoy_shader(load_scene(*cmd.export_glsl, {}));
+      return 0;
+    } catch (const std::exception& e) {
+      err << "marchcheck scenes: " << e.what() << "\n";
+      return kBadInput;
+    }
+  }
   if (cmd.export_name) {
     try {
       out << sdf::scene_to_json(sdf::builtin_scene(*cmd.export_name));

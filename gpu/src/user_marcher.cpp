@@ -147,4 +147,20 @@ std::vector<float> field_on_driver(const std::string& text, const std::string& f
   return out;
 }
 
+std::vector<float> render_shadertoy(const std::string& text, const std::string& file, int width, int height,
+                                    double seconds_limit) {
+  DriverJob job;
+  job.shader = sdf::complete_glsl(text, file,
+                                  {"",
+                                   "layout(location = 0) out vec4 marchcheck_color;\n"
+                                   "void main() { vec4 c = vec4(0.0); mainImage(c, gl_FragCoord.xy); marchcheck_color = c; }\n",
+                                   false, "no mainImage(out vec4 fragColor, in vec2 fragCoord)"});
+  job.file = file;
+  job.invocations = static_cast<unsigned>(width * height);
+  job.width = static_cast<unsigned>(width);
+  job.uniforms["iResolution"] = {double(width), double(height), 1.0};
+  job.seconds_limit = seconds_limit;
+  return run_on_driver(job).output;
+}
+
 }  // namespace marchcheck::gpu

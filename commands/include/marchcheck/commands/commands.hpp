@@ -19,6 +19,7 @@ sdf::Scene load_scene(const std::string& name_or_path, const std::vector<std::st
 struct ScenesCommand {
   bool json = false;
   std::optional<std::string> export_name;
+  std::optional<std::string> export_glsl;  // a built-in or a scene file, as a Shadertoy shader
 };
 int run_scenes(const ScenesCommand& cmd, std::ostream& out, std::ostream& err);
 

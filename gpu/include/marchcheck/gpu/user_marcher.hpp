@@ -54,4 +54,9 @@ std::vector<float> field_on_driver(const std::string& text, const std::string& f
                                    const std::map<std::string, std::vector<double>>& uniforms,
                                    const std::vector<glm::dvec3>& points, double seconds_limit = 60);
 
+// A Shadertoy shader's image (its mainImage over width x height pixels, iResolution set, row 0 at the bottom as
+// Shadertoy's fragCoord counts): RGBA per pixel.
+std::vector<float> render_shadertoy(const std::string& text, const std::string& file, int width, int height,
+                                    double seconds_limit = 60);
+
 }  // namespace marchcheck::gpu

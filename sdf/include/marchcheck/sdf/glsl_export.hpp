@@ -1,0 +1,23 @@
+// Any scene as GLSL: its field as a map() that marchcheck's GLSL evaluator computes bit for bit as the tape does
+// in float, and a self-contained Shadertoy shader around it.
+#pragma once
+
+#include "marchcheck/sdf/node.hpp"
+#include "marchcheck/sdf/scene.hpp"
+
+#include <string>
+
+namespace marchcheck::sdf {
+
+// `vec2 map(vec3 p)`: the compiled tree at `time`, one statement per tape instruction over GLSL kernels that mirror
+// the C++ ones operation for operation, its constants rounded to float as the tape's are; .y is the deciding
+// material (-1: none). Throws SceneError naming the scene (`name`) when an operator has no GLSL form (meshes,
+// GLSL fields, the heightfield's 64-bit hash) and says why.
+std::string glsl_map(const Node& root, double time, const std::string& name);
+
+// The scene as a Shadertoy shader (mainImage): glsl_map, the scene's marcher with its limits (MAX_STEPS,
+// MAX_DIST, SURF_DIST), central-difference normals, its lights with lambert shading and hard shadows, its camera's
+// pose and focal length (no lens distortion). What it leaves out is said at the top of the shader. Throws SceneError as glsl_map.
+std::string shadertoy_shader(const Scene& scene);
+
+}  // namespace marchcheck::sdf
