@@ -183,6 +183,21 @@ int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err) {
 
 namespace {
 
+// validate's results to --json, and its exit status: 0 every scene passes, 1 one fails, 2 the file cannot be written.
+int validate_status(const ValidateCommand& cmd, const std::vector<validation::SceneResult>& results,
+                    std::ostream& err) {
+  if (cmd.json) {
+    try {
+      files::write_bytes_atomically(*cmd.json, validate_json(results));
+    } catch (const std::exception& e) {
+      err << "marchcheck validate: " << e.what() << "\n";
+      return kBadInput;
+    }
+  }
+  const bool all_pass = std::all_of(results.begin(), results.end(), [](const auto& r) { return r.pass(); });
+  return all_pass ? 0 : 1;
+}
+
 UserShader read_user_shader(const std::string& path) {
   const std::optional<std::string> text = sdf::read_text_file(path);
   if (!text) throw sdf::SceneError(path + ": cannot read the GLSL file");
@@ -222,16 +237,7 @@ int validate_user_marcher(const ValidateCommand& cmd, std::ostream& out, std::os
       return kBadInput;
     }
   }
-  if (cmd.json) {
-    try {
-      files::write_bytes_atomically(*cmd.json, validate_json(results));
-    } catch (const std::exception& e) {
-      err << "marchcheck validate: " << e.what() << "\n";
-      return kBadInput;
-    }
-  }
-  const bool all_pass = std::all_of(results.begin(), results.end(), [](const auto& r) { return r.pass(); });
-  return all_pass ? 0 : 1;
+  return validate_status(cmd, results, err);
 }
 
 }  // namespace
@@ -261,16 +267,7 @@ int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& er
     // A GLSL file's scene was made here: say how (the camera's framing, found by sampling).
     if (scene.root.op == sdf::Op::glsl && !scene.description.empty()) out << "  scene: " << scene.description << "\n";
   }
-  if (cmd.json) {
-    try {
-      files::write_bytes_atomically(*cmd.json, validate_json(results));
-    } catch (const std::exception& e) {
-      err << "marchcheck validate: " << e.what() << "\n";
-      return kBadInput;
-    }
-  }
-  const bool all_pass = std::all_of(results.begin(), results.end(), [](const auto& r) { return r.pass(); });
-  return all_pass ? 0 : 1;
+  return validate_status(cmd, results, err);
 }
 
 int run_stability(const StabilityCommand& cmd, std::ostream& out, std::ostream& err) {
@@ -338,6 +335,18 @@ std::string metric_text(const validation::SweepPoint& p, const std::string& name
   return it == p.metrics.end() ? "-" : format_value(it->second);
 }
 
+// The sweep's --json and --csv files: 0 written (or none asked), 2 one cannot be.
+int write_sweep_files(const SweepCommand& cmd, const validation::SweepResult& result, std::ostream& err) {
+  try {
+    if (cmd.json) files::write_bytes_atomically(*cmd.json, sweep_json(result));
+    if (cmd.csv) files::write_bytes_atomically(*cmd.csv, sweep_csv(result));
+  } catch (const std::exception& e) {
+    err << "marchcheck sweep: " << e.what() << "\n";
+    return kBadInput;
+  }
+  return 0;
+}
+
 // The sweep's table: each combination's settings, the error metric and the other columns, its place on the
 // fronts, its checks, and the cheapest that meets the targets.
 void print_sweep(const validation::SweepResult& result, const std::vector<std::string>& others, std::ostream& out) {
@@ -364,10 +373,6 @@ void draw_progress(std::ostream& err, size_t done, size_t total) {
   err << "\r[" << std::string(static_cast<size_t>(filled), '#') << std::string(static_cast<size_t>(kWidth - filled), ' ')
       << "] " << done << "/" << total << (done == total ? "\n" : "") << std::flush;
 }
-
-}  // namespace
-
-namespace {
 
 // A sweep of a GLSL file's own parameters, its own marcher judged at each combination on the GL driver; the
 // error axis hit.t_err_p99 unless asked, the cost its map calls per ray (in cost.evals_per_pixel: a ray a
@@ -418,14 +423,7 @@ int sweep_user_marcher(const SweepCommand& cmd, std::ostream& out, std::ostream&
   }
   print_sweep(result, {"hit.false_hit", "hit.false_miss", "hit.overshoot", "hit.undecided", "march.over_max_steps",
                        "cost.evals_per_pixel", "cost.seconds"}, out);
-  try {
-    if (cmd.json) files::write_bytes_atomically(*cmd.json, sweep_json(result));
-    if (cmd.csv) files::write_bytes_atomically(*cmd.csv, sweep_csv(result));
-  } catch (const std::exception& e) {
-    err << "marchcheck sweep: " << e.what() << "\n";
-    return kBadInput;
-  }
-  return 0;
+  return write_sweep_files(cmd, result, err);
 }
 
 }  // namespace
@@ -474,14 +472,7 @@ int run_sweep(const SweepCommand& cmd, std::ostream& out, std::ostream& err) {
       << " renders at width " << std::min(options.render_width, scene.width) << ")\n";
   print_sweep(result, {"hit.undecided", "hit.t_err_p99", "normal.angle_p99_deg", "cost.evals_per_pixel",
                        "cost.seconds"}, out);
-  try {
-    if (cmd.json) files::write_bytes_atomically(*cmd.json, sweep_json(result));
-    if (cmd.csv) files::write_bytes_atomically(*cmd.csv, sweep_csv(result));
-  } catch (const std::exception& e) {
-    err << "marchcheck sweep: " << e.what() << "\n";
-    return kBadInput;
-  }
-  return 0;
+  return write_sweep_files(cmd, result, err);
 }
 
 int run_compare(const CompareCommand& cmd, std::ostream& out, std::ostream& err) {

@@ -306,14 +306,13 @@ struct HitJudge {
     const double rounding = march::tolerance::hit_point_rounding(j.subject.unit_roundoff, r.ray.origin, t_m);
     const double allowed = eps_m * r.len + rounding + j.ref.t_error_bound();
     // Within the solid but no farther past the first surface than the hit point's float rounding: rounded
-    // across the surface (t's own ulp at t = 100 is 8e-6), not a step through it; or, for a marcher that stops on
-    // either side, no deeper than the threshold allows (the depth across the surface, flat at this scale).
-    const double depth = std::abs(t_m - rh.t) * std::abs(glm::dot(r.dn, rh.normal));
+    // across the surface (t's own ulp at t = 100 is 8e-6), not a step through it. A marcher that stops on either
+    // side is judged by its depth across the surface (flat at this scale), as a hit outside by its distance.
     const bool just_past = near.inside && rh.hit &&
-                           (std::abs(t_m - rh.t) <= rounding + j.ref.t_error_bound() ||
-                            (j.subject.stops_either_side && depth <= allowed));
+                           (std::abs(t_m - rh.t) <= rounding + j.ref.t_error_bound() || j.subject.stops_either_side);
     if (near.inside && !just_past) upper = 0;  // deeper in the solid: the surface distance is unknown, the hit is wrong
-    if (just_past && j.subject.stops_either_side) upper = std::min(upper, depth);
+    if (just_past && j.subject.stops_either_side)
+      upper = std::min(upper, std::abs(t_m - rh.t) * std::abs(glm::dot(r.dn, rh.normal)));
     if ((near.inside && !just_past) || (rh.hit && t_m > rh.t + band && upper > allowed)) {
       ++overshoot;  // the march went through the first surface
       j.offenders.first("hit.overshoot", text);
