@@ -249,13 +249,117 @@ std::string glsl_map(const Node& root, double time, const std::string& name) {
   return out.str();
 }
 
+namespace {
+
+std::string vec3_literal(glm::dvec3 v) {
+  return "vec3(" + literal(float(v.x)) + ", " + literal(float(v.y)) + ", " + literal(float(v.z)) + ")";
+}
+
+// The camera as march::Camera makes its rays, for any iResolution: eye, basis, and focal lengths and principal
+// point in units of the image height (pinhole: from the field of view; intrinsics: the scene's pixels over its
+// height). No lens distortion.
+std::string camera_code(const Scene& s) {
+  const CameraSpec& c = s.camera;
+  const double degree = std::numbers::pi / 180;
+  const glm::dvec3 eye =
+      c.pose == CameraPose::orbit
+          ? c.target + c.distance * glm::dvec3(std::cos(c.pitch_deg * degree) * std::sin(c.yaw_deg * degree),
+                                               std::sin(c.pitch_deg * degree),
+                                               std::cos(c.pitch_deg * degree) * std::cos(c.yaw_deg * degree))
+          : c.position;
+  const bool intrinsics = c.model == CameraModel::intrinsics;
+  const double f = (c.fov_full_height ? 1.0 : 0.5) / std::tan(c.fov_deg * degree * 0.5);
+  const double fx = intrinsics ? c.fx / s.height : f, fy = intrinsics ? c.fy / s.height : f;
+  // The principal point: the image centre (of the shader's own aspect), or the scene's, in units of its height.
+  const std::string cx = intrinsics && c.cx >= 0 ? literal(float(c.cx / s.height)) : "0.5 * iResolution.x / iResolution.y";
+  const std::string cy = intrinsics && c.cy >= 0 ? literal(float(c.cy / s.height)) : "0.5";
+  std::ostringstream out;
+  out << "  vec3 ro = " << vec3_literal(eye) << ";\n"
+      << "  vec3 forward = normalize(" << vec3_literal(c.target) << " - ro);\n"
+      << "  vec3 right = normalize(cross(forward, " << vec3_literal(c.up) << ")), up = cross(right, forward);\n"
+      << "  vec2 at = vec2(fragCoord.x, iResolution.y - fragCoord.y) / iResolution.y;  // from the top, as marchcheck's\n"
+      << "  vec2 u = vec2((at.x - " << cx << ") / " << literal(float(fx)) << ", (at.y - " << cy << ") / "
+      << literal(float(fy)) << ");\n"
+      << "  vec3 rd = " << (c.normalize_rays ? "normalize(forward + right * u.x - up * u.y)" : "forward + right * u.x - up * u.y")
+      << ";\n";
+  return out.str();
+}
+
+// Direct light as marchcheck's renderer computes it (ambient, each light's diffuse variant, darkening in shadow,
+// Phong or Blinn-Phong specular, toon bands and silhouette).
+std::string lighting_code(const Scene& s) {
+  const Effects& e = s.effects;
+  std::ostringstream out;
+  out << "vec3 shade(vec3 p, vec3 n, vec3 eye, int m) {\n"
+      << "  vec3 albedo = materialColor(m), to_eye = length(eye - p) > 0.0 ? normalize(eye - p) : n;\n"
+      << "  vec3 col = albedo * " << literal(float(e.ambient)) << ";\n"
+      << "  int model = materialSpecular(m); float strength = materialStrength(m), shininess = materialShininess(m);\n";
+  const bool toon = e.shading == Shading::toon;
+  if (toon)
+    out << "  float bands = " << literal(float(e.toon_bands)) << ";\n";
+  for (const Light& light : s.lights) {
+    out << "  {\n";
+    if (light.type == LightType::point)
+      out << "    vec3 l = normalize(" << vec3_literal(light.position_at(s.time)) << " - p);"
+          << " float dist = length(" << vec3_literal(light.position_at(s.time)) << " - p);\n";
+    else
+      out << "    vec3 l = -normalize(" << vec3_literal(light.direction) << "); float dist = MAX_DIST;\n";
+    out << "    float cosine = dot(n, l);\n";
+    if (e.diffuse == Diffuse::unclamped)
+      out << "    float diffuse = cosine;\n";
+    else
+      out << "    float diffuse = clamp(cosine, " << literal(e.diffuse == Diffuse::floor ? float(e.diffuse_floor) : 0.0f)
+          << ", 1.0);\n";
+    out << "    vec3 r = -l - n * dot(n, -l) * 2.0; float base = model == 2 ? dot(n, normalize(l + to_eye)) : dot(r, to_eye);\n"
+        << "    float specular = model == 0 ? 0.0 : strength * pow(clamp(base, 0.0, 1.0), shininess);\n";
+    if (toon)
+      out << "    diffuse = mix(0.1, 1.0, min(floor(clamp(diffuse, 0.0, 1.0) * bands), bands - 1.0) / (bands - 1.0));\n"
+          << "    specular = model != 0 ? min(mix(0.1, 1.0, min(floor(clamp(specular, 0.0, 1.0) * bands), bands - 1.0)"
+          << " / (bands - 1.0)), diffuse) : 0.0;\n";
+    out << "    float visible = 1.0;\n";
+    if (light.shadow != ShadowMode::none)
+      out << "    if (cosine > 0.0 && rayMarch(p + n * SURF_DIST * 2.0, l) < dist) visible = 0.0;\n";
+    out << "    col += " << vec3_literal(light.color) << " * (albedo * diffuse * mix(" << literal(float(light.darkening))
+        << ", 1.0, visible) + specular * visible);\n  }\n";
+  }
+  if (toon) out << "  if (dot(to_eye, n) < " << literal(float(e.silhouette)) << ") col = vec3(0.0);\n";
+  out << "  return col;\n}\n";
+  return out.str();
+}
+
+// The scene's materials by index: colour (or its ramp colour), specular model, strength and shininess.
+std::string materials_code(const Scene& s) {
+  std::ostringstream color, model, strength, shininess;
+  for (size_t i = 0; i < s.materials.size(); ++i) {
+    const Material& m = s.materials[i];
+    glm::dvec3 c = m.color;
+    if (m.ramp_value >= 0 && !s.effects.ramp.empty()) {
+      const auto& ramp = s.effects.ramp;
+      const double x = m.ramp_value * static_cast<double>(ramp.size() - 1);
+      const size_t a = std::min(static_cast<size_t>(x), ramp.size() - 1), b = std::min(a + 1, ramp.size() - 1);
+      c = glm::mix(ramp[a], ramp[b], x - static_cast<double>(a));
+    }
+    color << "  if (m == " << i << ") return " << vec3_literal(c) << ";\n";
+    model << "  if (m == " << i << ") return "
+          << (m.specular == SpecularModel::none ? 0 : m.specular == SpecularModel::phong ? 1 : 2) << ";\n";
+    strength << "  if (m == " << i << ") return " << literal(float(m.specular_strength)) << ";\n";
+    shininess << "  if (m == " << i << ") return " << literal(float(m.shininess)) << ";\n";
+  }
+  return "vec3 materialColor(int m) {\n" + color.str() + "  return vec3(0.8);\n}\n" +
+         "int materialSpecular(int m) {\n" + model.str() + "  return 0;\n}\n" +
+         "float materialStrength(int m) {\n" + strength.str() + "  return 0.0;\n}\n" +
+         "float materialShininess(int m) {\n" + shininess.str() + "  return 1.0;\n}\n";
+}
+
+}  // namespace
+
 std::string shadertoy_shader(const Scene& scene) {
   const Scene& s = scene;
   std::ostringstream out;
   out << "// " << s.name << ", exported by marchcheck (scenes --export-glsl): paste into Shadertoy as it is.\n"
-      << "// The map is the scene's compiled field; the marcher, normals, lights and hard shadows are the scene's\n"
-      << "// march settings and its lambert lighting. Not exported: textures, specular, ambient occlusion, glow,\n"
-      << "// fog, reflections, refraction, lens distortion, off-centre principal points, orthographic cameras.\n";
+      << "// The map is the scene's compiled field; the marcher, normals, camera and direct lighting (diffuse,\n"
+      << "// specular, toon, hard shadows) are the scene's. Not exported: textures, ambient occlusion, glow, fog,\n"
+      << "// soft shadows, reflections, refraction, lens distortion, orthographic and frustum cameras.\n";
   out << "#define MAX_STEPS " << s.march.max_steps << "\n#define MAX_DIST " << literal(float(std::min(s.march.max_dist, 1e30)))
       << "\n#define SURF_DIST " << literal(float(s.march.hit_eps)) << "\n";
   out << glsl_map(s.root, s.time, s.name);
@@ -268,55 +372,18 @@ std::string shadertoy_shader(const Scene& scene) {
   out << "vec3 calcNormal(vec3 p) {\n  vec2 e = vec2(" << literal(float(s.march.normal_eps)) << ", 0.0);\n"
       << "  return normalize(vec3(map(p + e.xyy).x - map(p - e.xyy).x, map(p + e.yxy).x - map(p - e.yxy).x,\n"
       << "                        map(p + e.yyx).x - map(p - e.yyx).x));\n}\n";
-  out << "vec3 materialColor(int m) {\n";
-  for (size_t i = 0; i < s.materials.size(); ++i) {
-    const glm::dvec3 c = s.materials[i].color;
-    out << "  if (m == " << i << ") return vec3(" << literal(float(c.x)) << ", " << literal(float(c.y)) << ", "
-        << literal(float(c.z)) << ");\n";
-  }
-  out << "  return vec3(0.8);\n}\n";
-  const glm::dvec3 bg = s.effects.background;
-  // The camera's eye as march::Camera places it, and its vertical focal length in units of half the image height.
-  const double degree = std::numbers::pi / 180;
-  const glm::dvec3 eye =
-      s.camera.pose == CameraPose::orbit
-          ? s.camera.target + s.camera.distance * glm::dvec3(std::cos(s.camera.pitch_deg * degree) * std::sin(s.camera.yaw_deg * degree),
-                                                             std::sin(s.camera.pitch_deg * degree),
-                                                             std::cos(s.camera.pitch_deg * degree) * std::cos(s.camera.yaw_deg * degree))
-          : s.camera.position;
-  const double focal = s.camera.model == CameraModel::intrinsics ? s.camera.fy / (0.5 * s.height)
-                                                                 : 1 / std::tan(s.camera.fov_deg * degree / 2);
-  out << "void mainImage(out vec4 fragColor, in vec2 fragCoord) {\n"
-      << "  vec3 ro = vec3(" << literal(float(eye.x)) << ", " << literal(float(eye.y)) << ", " << literal(float(eye.z))
-      << ");\n"
-      << "  vec3 target = vec3(" << literal(float(s.camera.target.x)) << ", " << literal(float(s.camera.target.y))
-      << ", " << literal(float(s.camera.target.z)) << ");\n"
-      << "  vec3 up = vec3(" << literal(float(s.camera.up.x)) << ", " << literal(float(s.camera.up.y)) << ", "
-      << literal(float(s.camera.up.z)) << ");\n"
-      << "  vec3 forward = normalize(target - ro), right = normalize(cross(forward, up)), cam_up = cross(right, forward);\n"
-      << "  float focal = " << literal(float(focal)) << ";\n"
-      << "  vec2 uv = (2.0 * fragCoord - iResolution.xy) / iResolution.y;\n"
-      << "  vec3 rd = normalize(forward * focal + right * uv.x + cam_up * uv.y);\n"
-      << "  float t = rayMarch(ro, rd);\n"
-      << "  vec3 col = vec3(" << literal(float(bg.x)) << ", " << literal(float(bg.y)) << ", " << literal(float(bg.z))
-      << ");\n"
-      << "  if (t < MAX_DIST) {\n    vec3 p = ro + rd * t, n = calcNormal(p);\n"
-      << "    vec3 base = materialColor(int(map(p).y));\n    col = base * " << literal(float(s.effects.ambient)) << ";\n";
-  for (const Light& light : s.lights) {
-    const glm::dvec3 lp = light.position_at(s.time);
-    if (light.type == LightType::point)
-      out << "    { vec3 l = vec3(" << literal(float(lp.x)) << ", " << literal(float(lp.y)) << ", " << literal(float(lp.z))
-          << ") - p; float dist = length(l); l /= dist;\n";
-    else
-      out << "    { vec3 l = -normalize(vec3(" << literal(float(light.direction.x)) << ", "
-          << literal(float(light.direction.y)) << ", " << literal(float(light.direction.z)) << ")); float dist = MAX_DIST;\n";
-    out << "      float lit = max(dot(n, l), 0.0);\n";
-    if (light.shadow != ShadowMode::none)
-      out << "      if (lit > 0.0 && rayMarch(p + n * SURF_DIST * 2.0, l) < dist) lit = 0.0;\n";
-    out << "      col += base * vec3(" << literal(float(light.color.x)) << ", " << literal(float(light.color.y)) << ", "
-        << literal(float(light.color.z)) << ") * lit; }\n";
-  }
-  out << "  }\n  fragColor = vec4(col, 1.0);\n}\n";
+  out << materials_code(s) << lighting_code(s);
+  // Shadertoy shows what mainImage writes: the linear colour encoded as marchcheck's PNGs are (sRGB).
+  out << "vec3 srgb(vec3 linear) {\n  vec3 c = clamp(linear, 0.0, 1.0);\n"
+         "  return mix(1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, 12.92 * c, vec3(lessThanEqual(c, vec3(0.0031308))));\n}\n";
+  out << "void mainImage(out vec4 fragColor, in vec2 fragCoord) {\n" << camera_code(s)
+      << "  float t = rayMarch(ro, rd);\n  vec3 col = " << vec3_literal(s.effects.background) << ";\n"
+      // The seed defects the renderer reproduces: a miss read as distance 0 (a hit at the ray's origin), the
+      // direction taken for the eye's position.
+      << (s.march.miss_as_zero ? "  if (t >= MAX_DIST) t = 0.0;\n" : "")
+      << "  if (t < MAX_DIST) {\n    vec3 p = ro + rd * t;\n    col = shade(p, calcNormal(p), "
+      << (s.effects.eye_is_ray_direction ? "rd" : "ro") << ", int(map(p).y));\n  }\n"
+      << "  fragColor = vec4(srgb(col), 1.0);\n}\n";
   return out.str();
 }
 
