@@ -2,8 +2,10 @@
 // the scene's JSON text; then every built-in scene's tape, one point at a time (Tape) and in batches (Batch), on
 // one thread and on all (tasks of 256 points under oneTBB, as the renderer's tiles). Compare "evals/s" of
 // BM_LeeFlatCpp and BM_LeeFlatTape to read what the tape interpreter costs over hand-written code, and
-// BM_LeeFlatGlsl beside BM_LeeFlatTape for what a field imported from GLSL costs.
+// BM_LeeFlatGlsl (hand-written GLSL) and BM_LeeFlatExportedGlsl (the built-in exported and imported back) beside
+// BM_LeeFlatTape for what a field imported from GLSL costs.
 #include "marchcheck/sdf/builtin_scenes.hpp"
+#include "marchcheck/sdf/glsl_export.hpp"
 #include "marchcheck/sdf/glsl_field.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/sdf/tape.hpp"
@@ -100,10 +102,25 @@ void BM_LeeFlatGlsl(benchmark::State& state) {
   run_evals(state, [&](glm::vec3 p) { return sdf::evaluate<float>(tape, p); });
 }
 
+// The built-in lee-flat exported as GLSL (sdf::glsl_map: the tape one statement per instruction) and imported
+// back: the round trip, beside BM_LeeFlatTape on the same points.
+void BM_LeeFlatExportedGlsl(benchmark::State& state) {
+  const sdf::Scene scene = sdf::builtin_scene("lee-flat");
+  sdf::Node n = sdf::make(sdf::Op::glsl);
+  sdf::GlslSpec spec;
+  spec.code = sdf::glsl_map(scene.root, scene.time, scene.name);
+  spec.kind = sdf::Kind::bound;
+  spec.measured = false;
+  n.glsl = std::make_shared<const sdf::GlslField>(spec, spec.code, "lee-flat.glsl");
+  const sdf::Tape tape = sdf::compile(n);
+  run_evals(state, [&](glm::vec3 p) { return sdf::evaluate<float>(tape, p); });
+}
+
 BENCHMARK(BM_LeeFlatCpp);
 BENCHMARK(BM_LeeFlatTape);
 BENCHMARK(BM_LeeFlatJsonTape);
 BENCHMARK(BM_LeeFlatGlsl);
+BENCHMARK(BM_LeeFlatExportedGlsl);
 
 sdf::Tape scene_tape(const std::string& name) {
   const sdf::Scene scene = sdf::builtin_scene(name);

@@ -6,12 +6,12 @@
 
 #include "marchcheck/sdf/tape.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 #include <map>
 #include <numbers>
-#include <set>
 #include <sstream>
 
 namespace marchcheck::sdf {
@@ -178,6 +178,25 @@ std::string literal(float v) {
   return text;
 }
 
+// A kernel for one instruction: renamed, and its constants at fixed places (K[at], K[at + 2]) written as
+// literals, which the evaluator reads as constants (indexing K costs an integer add and a lookup each); the
+// places a loop computes still index K.
+std::string specialised(const std::string& code, const std::string& name, const std::vector<float>& k,
+                        std::uint32_t at) {
+  std::string out = name + code.substr(code.find('('));
+  out = code.substr(0, code.find("k_")) + out;
+  for (size_t pos = out.find("K[at"); pos != std::string::npos; pos = out.find("K[at", pos + 1)) {
+    size_t end = pos + 4, offset = 0;
+    if (out[end] == ' ' && out.compare(end, 3, " + ") == 0 && std::isdigit(static_cast<unsigned char>(out[end + 3]))) {
+      end += 3;
+      while (std::isdigit(static_cast<unsigned char>(out[end]))) offset = offset * 10 + static_cast<size_t>(out[end++] - '0');
+    }
+    if (out[end] != ']') continue;  // computed: K[at + i]
+    out.replace(pos, end + 1 - pos, "(" + literal(k[at + offset]) + ")");
+  }
+  return out;
+}
+
 // The one derived constant of a kernel with `extra` (the Mandelbulb's set radius, 2^(1 / (power - 1)) in double).
 double extra_constant(const Tape& tape, const Instr& in) {
   return std::pow(2.0, 1.0 / (tape.constants[in.arg] - 1));
@@ -188,7 +207,7 @@ double extra_constant(const Tape& tape, const Instr& in) {
 std::string glsl_map(const Node& root, double time, const std::string& name) {
   const Tape tape = compile(root, time);
   std::vector<float> k(tape.constants_f.begin(), tape.constants_f.end());
-  std::set<TapeOp> used;
+  std::ostringstream kernels;  // one specialised copy per instruction
   std::ostringstream body;
   int vt = -1, pt = 0, vmax = 0, pmax = 0;
   for (const Instr& in : tape.code) {
@@ -204,9 +223,10 @@ std::string glsl_map(const Node& root, double time, const std::string& name) {
     if (found == glsl_kernels().end()) throw std::logic_error("internal: a tape kernel without its GLSL");
     const GlslKernel& kernel = found->second;
     if (!*kernel.code) throw SceneError("cannot export " + name + " as GLSL: " + kernel.why_not);
-    used.insert(in.op);
     const std::string fn = std::string(kernel.code);
-    const std::string kname = fn.substr(fn.find("k_"), fn.find('(') - fn.find("k_"));
+    const std::string kname = fn.substr(fn.find("k_"), fn.find('(') - fn.find("k_")) + "_" +
+                              std::to_string(&in - tape.code.data());
+    kernels << specialised(fn, kname, k, in.arg) << "\n";
     std::string args = std::to_string(in.arg);
     if (kernel.extra) {
       args += ", " + std::to_string(k.size());
@@ -240,7 +260,7 @@ std::string glsl_map(const Node& root, double time, const std::string& name) {
   for (size_t i = 0; i < k.size(); ++i) out << (i ? (i % 6 == 0 ? ",\n  " : ", ") : "") << literal(k[i]);
   if (k.empty()) out << "0.0";
   out << ");\n" << kHelpers;
-  for (TapeOp op : used) out << glsl_kernels().at(op).code << "\n";
+  out << kernels.str();
   out << "// The distance, and the material of the child that decides it (-1: none) in .y.\nvec2 map(vec3 p) {\n";
   for (int i = 0; i <= vmax; ++i) out << "  float v" << i << " = 0.0; int m" << i << " = -1;\n";
   out << "  vec3 p0 = p;\n";
