@@ -224,8 +224,9 @@ std::string glsl_map(const Node& root, double time, const std::string& name) {
     const GlslKernel& kernel = found->second;
     if (!*kernel.code) throw SceneError("cannot export " + name + " as GLSL: " + kernel.why_not);
     const std::string fn = std::string(kernel.code);
-    const std::string kname = fn.substr(fn.find("k_"), fn.find('(') - fn.find("k_")) + "_" +
-                              std::to_string(&in - tape.code.data());
+    std::string kname = fn.substr(fn.find("k_"), fn.find('(') - fn.find("k_"));
+    if (kname.back() == '_') kname.pop_back();  // GLSL reserves names with "__"
+    kname += "_" + std::to_string(&in - tape.code.data());
     kernels << specialised(fn, kname, k, in.arg) << "\n";
     std::string args = std::to_string(in.arg);
     if (kernel.extra) {
@@ -275,9 +276,16 @@ std::string vec3_literal(glm::dvec3 v) {
   return "vec3(" + literal(float(v.x)) + ", " + literal(float(v.y)) + ", " + literal(float(v.z)) + ")";
 }
 
-// The camera as march::Camera makes its rays, for any iResolution: eye, basis, and focal lengths and principal
-// point in units of the image height (pinhole: from the field of view; intrinsics: the scene's pixels over its
-// height). No lens distortion.
+// Focal length in units of the image height, as march::Camera derives it (pinhole, frustum: from the field of
+// view; intrinsics: the scene's pixels over its height).
+double focal_over_height(const Scene& s) {
+  const CameraSpec& c = s.camera;
+  if (c.model == CameraModel::intrinsics) return c.fy / s.height;
+  return (c.fov_full_height ? 1.0 : 0.5) / std::tan(c.fov_deg * std::numbers::pi / 180 * 0.5);
+}
+
+// The camera as march::Camera makes its rays, for any iResolution (pixel centres counted from the top, as
+// marchcheck's): its eye and basis, then each model's ray; intrinsics undistort with Newton's steps as it does.
 std::string camera_code(const Scene& s) {
   const CameraSpec& c = s.camera;
   const double degree = std::numbers::pi / 180;
@@ -287,43 +295,235 @@ std::string camera_code(const Scene& s) {
                                                std::sin(c.pitch_deg * degree),
                                                std::cos(c.pitch_deg * degree) * std::cos(c.yaw_deg * degree))
           : c.position;
+  std::ostringstream out;
+  if (c.model == CameraModel::intrinsics) {
+    const std::string k1 = literal(float(c.k1)), k2 = literal(float(c.k2)), p1 = literal(float(c.p1)),
+                      p2 = literal(float(c.p2));
+    out << "// Brown-Conrady distortion and its Jacobian columns; undistort inverts it by Newton's method.\n"
+        << "vec2 distort(vec2 u, out vec2 jx, out vec2 jy) {\n"
+        << "  float r2 = u.x * u.x + u.y * u.y, radial = 1.0 + " << k1 << " * r2 + " << k2 << " * r2 * r2;\n"
+        << "  float dr = 2.0 * (" << k1 << " + 2.0 * " << k2 << " * r2);\n"
+        << "  jx = vec2(radial + u.x * dr * u.x + 2.0 * " << p1 << " * u.y + 6.0 * " << p2 << " * u.x,\n"
+        << "            u.y * dr * u.x + 2.0 * " << p1 << " * u.x + 2.0 * " << p2 << " * u.y);\n"
+        << "  jy = vec2(u.x * dr * u.y + 2.0 * " << p1 << " * u.x + 2.0 * " << p2 << " * u.y,\n"
+        << "            radial + u.y * dr * u.y + 6.0 * " << p1 << " * u.y + 2.0 * " << p2 << " * u.x);\n"
+        << "  return vec2(u.x * radial + 2.0 * " << p1 << " * u.x * u.y + " << p2 << " * (r2 + 2.0 * u.x * u.x),\n"
+        << "              u.y * radial + " << p1 << " * (r2 + 2.0 * u.y * u.y) + 2.0 * " << p2 << " * u.x * u.y);\n}\n"
+        << "vec2 undistort(vec2 d) {\n  vec2 u = d, jx, jy;\n  for (int i = 0; i < 30; i++) {\n"
+        << "    vec2 r = distort(u, jx, jy) - d; float det = jx.x * jy.y - jy.x * jx.y;\n"
+        << "    if (abs(r.x) + abs(r.y) == 0.0 || det == 0.0) break;\n"
+        << "    u -= vec2(jy.y * r.x - jy.x * r.y, -jx.y * r.x + jx.x * r.y) / det;\n  }\n  return u;\n}\n";
+  }
+  out << "void cameraRay(vec2 fragCoord, out vec3 ro, out vec3 rd) {\n"
+      << "  vec3 eye = " << vec3_literal(eye) << ";\n"
+      << "  vec3 forward = normalize(" << vec3_literal(c.target) << " - eye);\n"
+      << "  vec3 right = normalize(cross(forward, " << vec3_literal(c.up) << ")), up = cross(right, forward);\n"
+      << "  vec2 px = vec2(fragCoord.x, iResolution.y - fragCoord.y);  // from the top, as marchcheck's\n";
+  switch (c.model) {
+    case CameraModel::orthographic:
+      out << "  float unit = " << literal(float(c.ortho_height)) << " / iResolution.y;\n"
+          << "  ro = eye + right * ((px.x - iResolution.x * 0.5) * unit) - up * ((px.y - iResolution.y * 0.5) * unit);\n"
+          << "  rd = forward;\n}\n";
+      return out.str();
+    case CameraModel::frustum:
+      out << "  float th = " << literal(float(std::tan(c.fov_deg * degree * 0.5))) << ", tw = th * iResolution.x / iResolution.y;\n"
+          << "  vec2 uv = px / iResolution.xy;\n"
+          << "  vec3 top = mix(forward - right * tw + up * th, forward + right * tw + up * th, uv.x);\n"
+          << "  vec3 bottom = mix(forward - right * tw - up * th, forward + right * tw - up * th, uv.x);\n"
+          << "  ro = eye;\n  rd = normalize(mix(top, bottom, uv.y));\n}\n";
+      return out.str();
+    default: break;
+  }
+  // Focal lengths and principal point in units of the image height: the image centre of the shader's own aspect,
+  // or the scene's.
   const bool intrinsics = c.model == CameraModel::intrinsics;
-  const double f = (c.fov_full_height ? 1.0 : 0.5) / std::tan(c.fov_deg * degree * 0.5);
-  const double fx = intrinsics ? c.fx / s.height : f, fy = intrinsics ? c.fy / s.height : f;
-  // The principal point: the image centre (of the shader's own aspect), or the scene's, in units of its height.
+  const double fx = intrinsics ? c.fx / s.height : focal_over_height(s), fy = focal_over_height(s);
   const std::string cx = intrinsics && c.cx >= 0 ? literal(float(c.cx / s.height)) : "0.5 * iResolution.x / iResolution.y";
   const std::string cy = intrinsics && c.cy >= 0 ? literal(float(c.cy / s.height)) : "0.5";
-  std::ostringstream out;
-  out << "  vec3 ro = " << vec3_literal(eye) << ";\n"
-      << "  vec3 forward = normalize(" << vec3_literal(c.target) << " - ro);\n"
-      << "  vec3 right = normalize(cross(forward, " << vec3_literal(c.up) << ")), up = cross(right, forward);\n"
-      << "  vec2 at = vec2(fragCoord.x, iResolution.y - fragCoord.y) / iResolution.y;  // from the top, as marchcheck's\n"
+  out << "  vec2 at = px / iResolution.y;\n"
       << "  vec2 u = vec2((at.x - " << cx << ") / " << literal(float(fx)) << ", (at.y - " << cy << ") / "
-      << literal(float(fy)) << ");\n"
-      << "  vec3 rd = " << (c.normalize_rays ? "normalize(forward + right * u.x - up * u.y)" : "forward + right * u.x - up * u.y")
-      << ";\n";
+      << literal(float(fy)) << ");\n";
+  if (intrinsics) out << "  u = undistort(u);\n";
+  out << "  ro = eye;\n  rd = " << (c.normalize_rays ? "normalize(forward + right * u.x - up * u.y)" : "forward + right * u.x - up * u.y")
+      << ";\n}\n";
   return out.str();
 }
 
-// Direct light as marchcheck's renderer computes it (ambient, each light's diffuse variant, darkening in shadow,
-// Phong or Blinn-Phong specular, toon bands and silhouette).
+// The hit threshold at t (march::hit_threshold): absolute, relative to t, or the camera's pixel footprint.
+std::string hit_eps_code(const Scene& s) {
+  std::string eps = "SURF_DIST";
+  if (s.march.eps_mode == EpsMode::relative) eps = "SURF_DIST * t";
+  if (s.march.eps_mode == EpsMode::pixel)
+    eps = s.camera.model == CameraModel::orthographic
+              ? literal(float(0.5 * s.camera.ortho_height)) + " / iResolution.y"
+              : literal(float(0.5 / focal_over_height(s))) + " / iResolution.y * t";
+  return "float hitEps(float t) { return " + eps + "; }\n";
+}
+
+// The scene's marcher as march::march runs it, outcome for outcome: sphere tracing in steps of f (scaled: f / L,
+// relaxed: over-relaxed with Keinert et al.'s fallback), or fixed steps with bisection of the crossing.
+std::string marcher_code(const Scene& s) {
+  const MarchSettings& m = s.march;
+  const FieldInfo info = derive_info(s.root, s.time);
+  const double per_unit = (m.marcher == Marcher::scaled ? m.step_scale / info.lipschitz : m.step_scale);
+  std::ostringstream out;
+  out << "// outcome: 0 hit, 1 past maxDist, 2 out of steps, 3 started inside, 4 not finite; minAbsF: smallest |f|.\n"
+      << "struct March { float t; int steps; float minAbsF; int outcome; };\n"
+      << hit_eps_code(s)
+      << "float probe(inout March r, vec3 ro, vec3 rd, float t) {\n"
+      << "  float v = map(ro + rd * t).x; r.steps++; r.t = t;\n"
+      << "  if (abs(v) < r.minAbsF) r.minAbsF = abs(v);\n  return v;\n}\n"
+      << "March march(vec3 ro, vec3 rd, float maxDist) {\n"
+      << "  March r = March(0.0, 0, 1e38, 2);\n";
+  if (m.marcher == Marcher::fixed) {
+    out << "  float t = 0.0, prevT = 0.0;\n  while (r.steps < MAX_STEPS) {\n"
+        << "    float v = probe(r, ro, rd, t), eps = hitEps(t);\n"
+        << "    if (isnan(v) || isinf(v)) { r.outcome = 4; return r; }\n"
+        << "    if (r.steps == 1 && v < -eps) { r.outcome = 3; return r; }\n"
+        << "    if (v < eps) {\n      if (v > -eps || r.steps == 1) { r.outcome = 0; return r; }\n"
+        << "      float lo = prevT, hi = t;  // crossed between prevT (outside) and t (inside)\n"
+        << "      while (r.steps < MAX_STEPS) {\n        float mid = lo + (hi - lo) * 0.5, vm = probe(r, ro, rd, mid);\n"
+        << "        if (isnan(vm) || isinf(vm)) { r.outcome = 4; return r; }\n"
+        << "        if (abs(vm) < hitEps(mid) || !(mid > lo && mid < hi)) { r.outcome = 0; return r; }\n"
+        << "        if (vm > 0.0) lo = mid; else hi = mid;\n      }\n      r.t = lo; return r;\n    }\n"
+        << "    prevT = t;\n    t += " << literal(float(m.fixed_step)) << ";\n"
+        << "    if (t > maxDist) { r.t = t; r.outcome = 1; return r; }\n  }\n  r.t = t;\n  return r;\n}\n";
+    return out.str();
+  }
+  out << "  float t = 0.0, omega = " << literal(m.marcher == Marcher::relaxed ? float(m.relaxation) : 1.0f)
+      << ", prevT = 0.0, prevF = 0.0, prevStep = 0.0;\n  const float scale = " << literal(float(per_unit)) << ";\n"
+      << "  while (r.steps < MAX_STEPS) {\n    float v = probe(r, ro, rd, t), eps = hitEps(t);\n"
+      << "    if (isnan(v) || isinf(v)) { r.outcome = 4; return r; }\n"
+      << "    if (r.steps == 1 && v < -eps) { r.outcome = 3; return r; }\n"
+      << "    if (omega > 1.0 && abs(v) + prevF < prevStep) {  // the spheres do not overlap: a plain step back\n"
+      << "      omega = 1.0; t = prevT + prevF * scale; prevStep = prevF * scale;\n"
+      << "    } else {\n      if (v < eps) { r.outcome = 0; return r; }\n"
+      << "      float step = v * omega * scale;\n      prevT = t; prevF = v; prevStep = step; t += step;\n"
+      << "      if (t > maxDist) { r.t = t; r.outcome = 1; return r; }\n    }\n  }\n  r.t = t;\n  return r;\n}\n";
+  return out.str();
+}
+
+// Normals by the scene's method (analytic, which needs dual numbers, by central differences).
+std::string normal_code(const Scene& s) {
+  const MarchSettings& m = s.march;
+  std::ostringstream out;
+  out << "vec3 unitOrZero(vec3 g) { float len = sqrt(dot(g, g)); return len > 0.0 && !isinf(len) ? g / len : vec3(0.0); }\n"
+      << "vec3 calcNormal(vec3 p, float t) {\n  float e = "
+      << (m.normal_eps_scaled ? literal(float(m.normal_eps)) + " * t" : literal(float(m.normal_eps))) << ";\n";
+  if (m.normal == NormalMethod::forward)
+    out << "  float f0 = map(p).x;\n"
+        << "  return unitOrZero(vec3(map(p + vec3(e, 0, 0)).x - f0, map(p + vec3(0, e, 0)).x - f0, map(p + vec3(0, 0, e)).x - f0));\n";
+  else if (m.normal == NormalMethod::tetra)
+    out << "  vec3 k0 = vec3(1, -1, -1), k1 = vec3(-1, -1, 1), k2 = vec3(-1, 1, -1), k3 = vec3(1);\n"
+        << "  return unitOrZero(k0 * map(p + k0 * e).x + k1 * map(p + k1 * e).x + k2 * map(p + k2 * e).x +\n"
+        << "                    k3 * map(p + k3 * e).x);\n";
+  else
+    out << "  return unitOrZero(vec3(map(p + vec3(e, 0, 0)).x - map(p - vec3(e, 0, 0)).x,\n"
+        << "                        map(p + vec3(0, e, 0)).x - map(p - vec3(0, e, 0)).x,\n"
+        << "                        map(p + vec3(0, 0, e)).x - map(p - vec3(0, 0, e)).x));\n";
+  out << "}\nvec3 calcNormal(vec3 p) { return calcNormal(p, 1.0); }\n";
+  return out.str();
+}
+
+// The scene's triangle meshes (the Unity seed's depth-buffer occlusion): the nearest triangle along the ray, its
+// normal facing the ray and its material; the march stops there. Empty without meshes.
+std::string meshes_code(const Scene& s) {
+  if (s.meshes.empty()) return "";
+  std::ostringstream corners, materials;
+  size_t n = 0;
+  for (const SceneMesh& mesh : s.meshes)
+    for (const auto& tri : mesh.triangles) {
+      for (std::uint32_t v : tri) corners << (n ? ",\n  " : "") << vec3_literal(mesh.vertices[v]), ++n;
+      materials << (n > 3 ? ", " : "") << mesh.material;
+    }
+  std::ostringstream out;
+  out << "const vec3 TRIANGLES[" << n << "] = vec3[](" << corners.str() << ");\n"
+      << "const int TRIANGLE_MATERIAL[" << n / 3 << "] = int[](" << materials.str() << ");\n"
+      << "struct MeshHit { bool hit; float t; vec3 normal; int material; };\n"
+      << "MeshHit meshHit(vec3 ro, vec3 rd, float maxT) {  // Moller-Trumbore, either face\n"
+      << "  MeshHit h = MeshHit(false, maxT, vec3(0.0), -1);\n"
+      << "  for (int i = 0; i < " << n / 3 << "; i++) {\n"
+      << "    vec3 a = TRIANGLES[3 * i], e1 = TRIANGLES[3 * i + 1] - a, e2 = TRIANGLES[3 * i + 2] - a;\n"
+      << "    vec3 q = cross(rd, e2); float det = dot(e1, q);\n    if (det == 0.0) continue;\n"
+      << "    vec3 s = ro - a; float u = dot(s, q) / det; vec3 w = cross(s, e1); float v = dot(rd, w) / det;\n"
+      << "    float t = dot(e2, w) / det;\n"
+      << "    if (u < 0.0 || v < 0.0 || u + v > 1.0 || !(t > 0.0) || t >= h.t) continue;\n"
+      << "    vec3 ng = normalize(cross(e1, e2));\n"
+      << "    h = MeshHit(true, t, dot(ng, rd) > 0.0 ? -ng : ng, TRIANGLE_MATERIAL[i]);\n  }\n  return h;\n}\n";
+  return out.str();
+}
+
+// Each light's visibility from surface point p (hit at t along its ray), as march::shadow_visibility: hard shadows
+// start where the light's bias puts them and count hits and starts inside; soft ones take the penumbra of the
+// closest approach (classic, or improved by the previous step's sphere).
+std::string shadow_code(const Light& light) {
+  if (light.shadow == ShadowMode::none) return "1.0";
+  const std::string bias = literal(float(light.bias_factor));
+  std::ostringstream out;
+  out << "shadowOf(p, n, l, dist, t, " << static_cast<int>(light.shadow == ShadowMode::soft)
+      << ", " << static_cast<int>(light.bias) << ", " << bias << ", "
+      << static_cast<int>(light.soft == SoftShadow::improved) << ", " << literal(float(light.penumbra)) << ")";
+  return out.str();
+}
+
+std::string shadow_functions(const Scene& s) {
+  const FieldInfo info = derive_info(s.root, s.time);
+  const double per_unit = (s.march.marcher == Marcher::scaled ? s.march.step_scale / info.lipschitz : s.march.step_scale);
+  std::ostringstream out;
+  out << "// bias: 0 lifted by bias hit thresholds, 1 lifted by one and hits nearer than bias thresholds ignored,\n"
+      << "// 2 above the threshold and the rounding of |p| and t; improved: 0 for Quilez's classic penumbra.\n"
+      << "float shadowOf(vec3 p, vec3 n, vec3 l, float dist, float t, int soft, int bias, float factor, int improved,\n"
+      << "               float penumbra) {\n"
+      << "  float eps = hitEps(t), offset = bias == 0 ? eps * factor : eps;\n"
+      << "  if (bias == 2) offset = 2.0 * eps + factor * 1.1920929e-7 * (max(max(abs(p.x), abs(p.y)), abs(p.z)) + t);\n"
+      << "  vec3 o = p + n * offset; float far = min(MAX_DIST, dist);\n"
+      << "  if (soft == 0) {\n    March r = march(o, l, far);\n"
+      << "    bool blocked = r.outcome == 0 || r.outcome == 3;\n"
+      << "    if (bias == 1 && r.t <= factor * eps) blocked = false;\n    return blocked ? 0.0 : 1.0;\n  }\n"
+      << "  float res = 1.0, s = 0.0, prevH = 3.4e38;\n"
+      << "  for (int i = 0; i < MAX_STEPS && s < far; ++i) {\n    float h = map(o + l * s).x;\n"
+      << "    if (isnan(h) || isinf(h)) break;\n    if (h < eps) { res = 0.0; break; }\n"
+      << "    if (improved == 0 || i == 0) {\n      res = min(res, penumbra * h / max(s, eps));\n    } else {\n"
+      << "      float y = h * h / (2.0 * prevH), d = sqrt(max(h * h - y * y, 0.0));\n"
+      << "      res = min(res, penumbra * d / max(0.0, s - y));\n    }\n"
+      << "    prevH = h;\n    s += h * " << literal(float(per_unit)) << ";\n  }\n  return clamp(res, 0.0, 1.0);\n}\n";
+  return out.str();
+}
+
+// Ambient occlusion by samples along the normal (march's ambient_occlusion), 1 for the other kinds.
+std::string occlusion_code(const Scene& s) {
+  const Effects& e = s.effects;
+  std::ostringstream out;
+  out << "float occlusion(vec3 p, vec3 n) {\n";
+  if (e.ao == AmbientOcclusion::samples)
+    out << "  float occluded = 0.0, weights = 0.0, weight = 1.0;\n"
+        << "  for (int i = 1; i <= " << e.ao_samples << "; i++) {\n"
+        << "    float h = " << literal(float(e.ao_distance)) << " * float(i) / " << e.ao_samples << ".0;\n"
+        << "    occluded += weight * clamp((h - map(p + n * h).x) / h, 0.0, 1.0); weights += weight; weight *= 0.85;\n"
+        << "  }\n  return 1.0 - occluded / weights;\n";
+  else
+    out << "  return 1.0;\n";
+  out << "}\n";
+  return out.str();
+}
+
+// Direct light as marchcheck's renderer computes it (ambient times occlusion, each light's diffuse variant,
+// darkening in shadow, Phong or Blinn-Phong specular, toon bands and silhouette).
 std::string lighting_code(const Scene& s) {
   const Effects& e = s.effects;
   std::ostringstream out;
-  out << "vec3 shade(vec3 p, vec3 n, vec3 eye, int m) {\n"
+  out << "vec3 shade(vec3 p, vec3 n, vec3 eye, int m, float t, float ao) {\n"
       << "  vec3 albedo = materialColor(m), to_eye = length(eye - p) > 0.0 ? normalize(eye - p) : n;\n"
-      << "  vec3 col = albedo * " << literal(float(e.ambient)) << ";\n"
+      << "  vec3 col = albedo * " << literal(float(e.ambient)) << " * ao;\n"
       << "  int model = materialSpecular(m); float strength = materialStrength(m), shininess = materialShininess(m);\n";
   const bool toon = e.shading == Shading::toon;
-  if (toon)
-    out << "  float bands = " << literal(float(e.toon_bands)) << ";\n";
+  if (toon) out << "  float bands = " << literal(float(e.toon_bands)) << ";\n";
   for (const Light& light : s.lights) {
     out << "  {\n";
     if (light.type == LightType::point)
-      out << "    vec3 l = normalize(" << vec3_literal(light.position_at(s.time)) << " - p);"
-          << " float dist = length(" << vec3_literal(light.position_at(s.time)) << " - p);\n";
+      out << "    vec3 l = " << vec3_literal(light.position_at(s.time)) << " - p; float dist = length(l); l /= dist;\n";
     else
-      out << "    vec3 l = -normalize(" << vec3_literal(light.direction) << "); float dist = MAX_DIST;\n";
+      out << "    vec3 l = -normalize(" << vec3_literal(light.direction) << "); float dist = 3.4e38;\n";
     out << "    float cosine = dot(n, l);\n";
     if (e.diffuse == Diffuse::unclamped)
       out << "    float diffuse = cosine;\n";
@@ -336,10 +536,8 @@ std::string lighting_code(const Scene& s) {
       out << "    diffuse = mix(0.1, 1.0, min(floor(clamp(diffuse, 0.0, 1.0) * bands), bands - 1.0) / (bands - 1.0));\n"
           << "    specular = model != 0 ? min(mix(0.1, 1.0, min(floor(clamp(specular, 0.0, 1.0) * bands), bands - 1.0)"
           << " / (bands - 1.0)), diffuse) : 0.0;\n";
-    out << "    float visible = 1.0;\n";
-    if (light.shadow != ShadowMode::none)
-      out << "    if (cosine > 0.0 && rayMarch(p + n * SURF_DIST * 2.0, l) < dist) visible = 0.0;\n";
-    out << "    col += " << vec3_literal(light.color) << " * (albedo * diffuse * mix(" << literal(float(light.darkening))
+    out << "    float visible = " << shadow_code(light) << ";\n"
+        << "    col += " << vec3_literal(light.color) << " * (albedo * diffuse * mix(" << literal(float(light.darkening))
         << ", 1.0, visible) + specular * visible);\n  }\n";
   }
   if (toon) out << "  if (dot(to_eye, n) < " << literal(float(e.silhouette)) << ") col = vec3(0.0);\n";
@@ -371,39 +569,67 @@ std::string materials_code(const Scene& s) {
          "float materialShininess(int m) {\n" + shininess.str() + "  return 1.0;\n}\n";
 }
 
+// mainImage: the camera's ray, the march (stopped at a nearer mesh), the surface lit, then the renderer's
+// finish: glow on misses, step-count occlusion, no negative colour, fog; sRGB out, as marchcheck's PNGs.
+std::string main_image_code(const Scene& s) {
+  const Effects& e = s.effects;
+  std::ostringstream out;
+  out << "vec3 srgb(vec3 linear) {\n  vec3 c = clamp(linear, 0.0, 1.0);\n"
+         "  return mix(1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, 12.92 * c, vec3(lessThanEqual(c, vec3(0.0031308))));\n}\n";
+  out << "void mainImage(out vec4 fragColor, in vec2 fragCoord) {\n  vec3 ro, rd;\n  cameraRay(fragCoord, ro, rd);\n";
+  if (s.meshes.empty())
+    out << "  March r = march(ro, rd, MAX_DIST);\n";
+  else
+    out << "  MeshHit mesh = meshHit(ro, rd, MAX_DIST);\n  March r = march(ro, rd, mesh.t);\n";
+  // The seed defect the renderer reproduces: a miss read as distance 0 (a hit at the ray's origin).
+  if (s.march.miss_as_zero) out << "  if (r.outcome != 0) { r.outcome = 0; r.t = 0.0; }\n";
+  const bool meshes = !s.meshes.empty();
+  out << "  vec3 col = " << vec3_literal(e.background) << ";\n"
+      << "  bool onMesh = " << (meshes ? "mesh.hit && r.outcome != 0" : "false") << ";\n"
+      << "  if (r.outcome == 0 || onMesh) {\n"
+      << "    float t = " << (meshes ? "onMesh ? mesh.t : " : "") << "r.t;\n    vec3 p = ro + rd * t;\n"
+      << "    vec3 n = " << (meshes ? "onMesh ? mesh.normal : " : "") << "calcNormal(p, t);\n"
+      << "    int m = " << (meshes ? "onMesh ? mesh.material : " : "") << "int(map(p).y);\n"
+      // The seed defect: the ray's direction taken for the eye's position.
+      << "    col = shade(p, n, " << (e.eye_is_ray_direction ? "rd" : "ro") << ", m, t, "
+      << (meshes ? "onMesh ? 1.0 : " : "") << "occlusion(p, n));\n";
+  if (e.ao == AmbientOcclusion::steps)
+    out << "    col -= vec3(float(r.steps) * float(r.steps) * " << literal(float(e.ao_steps_scale)) << ");\n";
+  out << "    col = max(col, vec3(0.0));\n";
+  if (e.fog > 0)
+    out << "    col = mix(" << vec3_literal(e.fog_color) << ", col, exp(-" << literal(float(e.fog)) << " * t));\n";
+  out << "  }";
+  if (e.glow > 0)
+    out << " else {\n    float g = clamp(1.0 - r.minAbsF / " << literal(float(e.glow_width)) << ", 0.0, 1.0);\n"
+        << "    col += " << vec3_literal(e.glow_color) << " * (" << literal(float(e.glow)) << " * g * g);\n  }";
+  out << "\n  fragColor = vec4(srgb(col), 1.0);\n}\n";
+  return out.str();
+}
+
 }  // namespace
+
+std::vector<std::string> glsl_unexported_effects(const Scene& scene) {
+  std::vector<std::string> out;
+  for (const std::string& e : declared_effects(scene))
+    if (e.starts_with("texture:") || e == "reflection" || e == "refraction") out.push_back(e);
+  return out;
+}
 
 std::string shadertoy_shader(const Scene& scene) {
   const Scene& s = scene;
   std::ostringstream out;
+  std::string left_out;
+  for (const std::string& e : glsl_unexported_effects(s)) left_out += " " + e;
   out << "// " << s.name << ", exported by marchcheck (scenes --export-glsl): paste into Shadertoy as it is.\n"
-      << "// The map is the scene's compiled field; the marcher, normals, camera and direct lighting (diffuse,\n"
-      << "// specular, toon, hard shadows) are the scene's. Not exported: textures, ambient occlusion, glow, fog,\n"
-      << "// soft shadows, reflections, refraction, lens distortion, orthographic and frustum cameras.\n";
+      << "// The map is the scene's compiled field; the camera, marcher, normals, meshes, lights, shadows, occlusion,\n"
+      << "// glow and fog are the scene's, computed as marchcheck's renderer does, at the scene's time.\n"
+      << (left_out.empty() ? "" : "// Left out (this export does not write them):" + left_out + ".\n");
   out << "#define MAX_STEPS " << s.march.max_steps << "\n#define MAX_DIST " << literal(float(std::min(s.march.max_dist, 1e30)))
       << "\n#define SURF_DIST " << literal(float(s.march.hit_eps)) << "\n";
-  out << glsl_map(s.root, s.time, s.name);
-  const FieldInfo info = derive_info(s.root, s.time);
-  // Steps of f, f / L for the scaled marcher, times the relaxation for the relaxed one (without its fallback).
-  const double per_unit = (s.march.marcher == Marcher::scaled ? 1 / info.lipschitz : 1) * s.march.step_scale;
-  out << "float rayMarch(vec3 ro, vec3 rd) {\n  float t = 0.0;\n  for (int i = 0; i < MAX_STEPS; i++) {\n"
-      << "    float d = map(ro + rd * t).x;\n    if (abs(d) < SURF_DIST) break;\n    t += d * "
-      << literal(float(per_unit)) << ";\n    if (t > MAX_DIST) break;\n  }\n  return t;\n}\n";
-  out << "vec3 calcNormal(vec3 p) {\n  vec2 e = vec2(" << literal(float(s.march.normal_eps)) << ", 0.0);\n"
-      << "  return normalize(vec3(map(p + e.xyy).x - map(p - e.xyy).x, map(p + e.yxy).x - map(p - e.yxy).x,\n"
-      << "                        map(p + e.yyx).x - map(p - e.yyx).x));\n}\n";
-  out << materials_code(s) << lighting_code(s);
-  // Shadertoy shows what mainImage writes: the linear colour encoded as marchcheck's PNGs are (sRGB).
-  out << "vec3 srgb(vec3 linear) {\n  vec3 c = clamp(linear, 0.0, 1.0);\n"
-         "  return mix(1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, 12.92 * c, vec3(lessThanEqual(c, vec3(0.0031308))));\n}\n";
-  out << "void mainImage(out vec4 fragColor, in vec2 fragCoord) {\n" << camera_code(s)
-      << "  float t = rayMarch(ro, rd);\n  vec3 col = " << vec3_literal(s.effects.background) << ";\n"
-      // The seed defects the renderer reproduces: a miss read as distance 0 (a hit at the ray's origin), the
-      // direction taken for the eye's position.
-      << (s.march.miss_as_zero ? "  if (t >= MAX_DIST) t = 0.0;\n" : "")
-      << "  if (t < MAX_DIST) {\n    vec3 p = ro + rd * t;\n    col = shade(p, calcNormal(p), "
-      << (s.effects.eye_is_ray_direction ? "rd" : "ro") << ", int(map(p).y));\n  }\n"
-      << "  fragColor = vec4(srgb(col), 1.0);\n}\n";
+  out << glsl_map(s.root, s.time, s.name) << marcher_code(s);
+  out << "float rayMarch(vec3 ro, vec3 rd) { return march(ro, rd, MAX_DIST).t; }\n";
+  out << normal_code(s) << meshes_code(s) << shadow_functions(s) << occlusion_code(s) << materials_code(s)
+      << lighting_code(s) << camera_code(s) << main_image_code(s);
   return out.str();
 }
 

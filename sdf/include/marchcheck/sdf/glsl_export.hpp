@@ -6,6 +6,7 @@
 #include "marchcheck/sdf/scene.hpp"
 
 #include <string>
+#include <vector>
 
 namespace marchcheck::sdf {
 
@@ -15,9 +16,14 @@ namespace marchcheck::sdf {
 // GLSL fields, the heightfield's 64-bit hash) and says why.
 std::string glsl_map(const Node& root, double time, const std::string& name);
 
-// The scene as a Shadertoy shader (mainImage): glsl_map, the scene's marcher with its limits (MAX_STEPS,
-// MAX_DIST, SURF_DIST), central-difference normals, its lights with lambert shading and hard shadows, its camera's
-// pose and focal length (no lens distortion). What it leaves out is said at the top of the shader. Throws SceneError as glsl_map.
+// The scene as a Shadertoy shader (mainImage) that draws what marchcheck's renderer draws: glsl_map, the scene's
+// camera (every model, lens distortion included), marcher with its limits (MAX_STEPS, MAX_DIST, SURF_DIST),
+// normals, triangle meshes, lights, hard and soft shadows, ambient occlusion, glow and fog, at the scene's time.
+// What it leaves out (glsl_unexported_effects) is said at the top of the shader. Throws SceneError as glsl_map.
 std::string shadertoy_shader(const Scene& scene);
+
+// The effects the scene declares (declared_effects) that shadertoy_shader does not write: textures, reflection
+// and refraction.
+std::vector<std::string> glsl_unexported_effects(const Scene& scene);
 
 }  // namespace marchcheck::sdf
