@@ -40,11 +40,79 @@ float mc_smooth_min(float a, float b, float k) {
 }
 )";
 
+// noise.hpp's value noise: the splitmix64 hash in 32-bit halves (GLSL ES has no 64-bit integers), the lattice
+// value rounded to float as C++ rounds the double (to nearest, ties to even), smath's mix.
+constexpr const char* kNoiseHelpers = R"(uvec2 mc_mul32(uint a, uint b) {  // the whole 64-bit product, (high, low)
+  uint a0 = a & 0xffffu, a1 = a >> 16, b0 = b & 0xffffu, b1 = b >> 16;
+  uint p00 = a0 * b0, p01 = a0 * b1, p10 = a1 * b0;
+  uint mid = (p00 >> 16) + (p01 & 0xffffu) + (p10 & 0xffffu);
+  return uvec2(a1 * b1 + (p01 >> 16) + (p10 >> 16) + (mid >> 16), (p00 & 0xffffu) | (mid << 16));
+}
+uvec2 mc_mul64(uvec2 a, uvec2 b) { uvec2 r = mc_mul32(a.y, b.y); r.x += a.y * b.x + a.x * b.y; return r; }
+uvec2 mc_xor_shift(uvec2 h, int s) { return h ^ uvec2(h.x >> s, (h.y >> s) | (h.x << (32 - s))); }
+uvec2 mc_add1(uvec2 a) { return uvec2(a.x + (a.y == 0xffffffffu ? 1u : 0u), a.y + 1u); }
+// A lattice coordinate as a 64-bit integer: floor(x) where it lies within +-4e18, else 0.
+uvec2 mc_cell(float f) {
+  if (!(f == f && f > -4e18 && f < 4e18)) return uvec2(0u);
+  float m = abs(f), high = floor(m / 4294967296.0);  // m's low word is within its 24 bits: exact
+  uvec2 v = uvec2(uint(high), uint(m - high * 4294967296.0));
+  return f < 0.0 ? mc_add1(~v) : v;
+}
+float mc_lattice(uvec2 ix, uvec2 iz) {
+  uvec2 h = mc_mul64(ix, uvec2(0x9E3779B9u, 0x7F4A7C15u)) ^ mc_mul64(iz, uvec2(0xC2B2AE3Du, 0x27D4EB4Fu));
+  h = mc_mul64(mc_xor_shift(h, 30), uvec2(0xBF58476Du, 0x1CE4E5B9u));
+  h = mc_mul64(mc_xor_shift(h, 27), uvec2(0x94D049BBu, 0x133111EBu));
+  h = mc_xor_shift(h, 31);
+  uint high = h.x >> 11, low = (h.y >> 11) | (h.x << 21);  // (h >> 11): 53 bits
+  if (high == 0u && low == 0u) return 0.0;
+  float scale = 5.9604644775390625e-8;  // 2^-24, halved for each place the leading bit moves up
+  while ((high & 0x100000u) == 0u) { high = (high << 1) | (low >> 31); low <<= 1; scale *= 0.5; }
+  uint top = (high << 3) | (low >> 29), tail = low & 0x1fffffffu;
+  if (tail > 0x10000000u || (tail == 0x10000000u && (top & 1u) == 1u)) top += 1u;
+  return float(top) * scale;
+}
+float mc_value_noise(float x, float z) {
+  float fx = floor(x), fz = floor(z);
+  uvec2 ix = mc_cell(fx), iz = mc_cell(fz);
+  float tx = x - fx, tz = z - fz;
+  float ux = tx * tx * (3.0 - 2.0 * tx), uz = tz * tz * (3.0 - 2.0 * tz);
+  float a = mc_lattice(ix, iz), b = mc_lattice(mc_add1(ix), iz);
+  float c = mc_lattice(ix, mc_add1(iz)), d = mc_lattice(mc_add1(ix), mc_add1(iz));
+  return mc_mix(mc_mix(a, b, ux), mc_mix(c, d, ux), uz);
+}
+)";
+
+// march/texture.cpp's soil picture (512 texels square, five octaves of value noise whose lattice periods divide
+// it), texel by texel, looked up as OpenImageIO does: bilinear between texel centres, wrapping.
+constexpr const char* kSoilTexture = R"(vec3 mc_soil_texel(int x, int y) {
+  float v = 0.0, amp = 0.5;
+  for (int octave = 0; octave < 5; ++octave) {
+    int cells = 8 << octave;
+    float u = float(x * cells) / 512.0, w = float(y * cells) / 512.0;
+    int ix = int(u), iy = int(w);
+    float fx = u - float(ix), fy = w - float(iy);
+    float sx = fx * fx * (3.0 - 2.0 * fx), sy = fy * fy * (3.0 - 2.0 * fy);
+    uvec2 x0 = uvec2(0u, uint(ix % cells)), x1 = uvec2(0u, uint((ix + 1) % cells));
+    uvec2 y0 = uvec2(0u, uint(iy % cells)), y1 = uvec2(0u, uint((iy + 1) % cells));
+    float a = mc_lattice(x0, y0), b = mc_lattice(x1, y0), c = mc_lattice(x0, y1), d = mc_lattice(x1, y1);
+    v += amp * ((a + (b - a) * sx) * (1.0 - sy) + (c + (d - c) * sx) * sy);
+    amp *= 0.5;
+  }
+  return vec3(0.35 + 0.45 * v, 0.25 + 0.35 * v, 0.15 + 0.22 * v);
+}
+vec3 mc_soil(float s, float t) {
+  vec2 x = vec2(s - floor(s), t - floor(t)) * 512.0 - 0.5, i = floor(x), f = x - i;
+  int x0 = int(i.x) & 511, y0 = int(i.y) & 511, x1 = (x0 + 1) & 511, y1 = (y0 + 1) & 511;
+  return mix(mix(mc_soil_texel(x0, y0), mc_soil_texel(x1, y0), f.x), mix(mc_soil_texel(x0, y1), mc_soil_texel(x1, y1), f.x), f.y);
+}
+)";
+
 // Each kernel's GLSL: the C++ kernel's expressions, K[at + i] for its k(i). Empty: not exportable (why).
 struct GlslKernel {
   const char* code;
   const char* why_not = "";
-  bool extra = false;  // also takes one constant the C++ kernel derives in double (its index in K)
+  bool extra = false;          // also takes one constant the C++ kernel derives in double (its index in K)
+  const char* helpers = "";    // written once before the kernels, where a tape uses this one
 };
 
 // clang-format off
@@ -85,7 +153,9 @@ const std::map<TapeOp, GlslKernel>& glsl_kernels() {
                           "  else if (3.0 * p.z < m) q = vec3(p.z, p.x, p.y); else return m * 0.57735026918962576;\n"
                           "  float kk = mc_clamp(0.5 * (q.z - q.y + s), 0.0, s); return mc_length(vec3(q.x, q.y - s + kk, q.z - kk)); }"}},
     {TapeOp::octahedron_bound, {"float k_octahedron_bound(int at, vec3 p) { p = abs(p); return (p.x + p.y + p.z - K[at]) * 0.57735026918962576; }"}},
-    {TapeOp::heightfield, {"", "its value noise hashes 64-bit lattice coordinates, which GLSL 4.50 has no integers for"}},
+    {TapeOp::heightfield, {"float k_heightfield(int at, vec3 p) { int pairs = int(K[at]); float h = 0.0;\n"
+                           "  for (int i = 0; i < pairs; ++i) h += K[at + 1 + 2 * i] * mc_value_noise(p.x * K[at + 2 + 2 * i], p.z * K[at + 2 + 2 * i]);\n"
+                           "  return p.y - h; }", "", false, kNoiseHelpers}},
     {TapeOp::mandelbulb, {"float k_mandelbulb(int at, int extra, vec3 p) { float power = K[at]; int iterations = int(K[at + 1]);\n"
                           "  float bailout2 = K[at + 2] * K[at + 2]; vec3 w = p; float m = mc_dot(w, w);\n"
                           "  float set_radius = K[extra];\n"
@@ -209,6 +279,7 @@ std::string glsl_map(const Node& root, double time, const std::string& name) {
   std::vector<float> k(tape.constants_f.begin(), tape.constants_f.end());
   std::ostringstream kernels;  // one specialised copy per instruction
   std::ostringstream body;
+  std::string helpers;  // the kernels' own, once each
   int vt = -1, pt = 0, vmax = 0, pmax = 0;
   for (const Instr& in : tape.code) {
     if (in.op == TapeOp::set_material) {
@@ -227,6 +298,7 @@ std::string glsl_map(const Node& root, double time, const std::string& name) {
     std::string kname = fn.substr(fn.find("k_"), fn.find('(') - fn.find("k_"));
     if (kname.back() == '_') kname.pop_back();  // GLSL reserves names with "__"
     kname += "_" + std::to_string(&in - tape.code.data());
+    if (*kernel.helpers && helpers.find(kernel.helpers) == std::string::npos) helpers += kernel.helpers;
     kernels << specialised(fn, kname, k, in.arg) << "\n";
     std::string args = std::to_string(in.arg);
     if (kernel.extra) {
@@ -260,7 +332,7 @@ std::string glsl_map(const Node& root, double time, const std::string& name) {
   out << "const float K[" << std::max<size_t>(k.size(), 1) << "] = float[](";
   for (size_t i = 0; i < k.size(); ++i) out << (i ? (i % 6 == 0 ? ",\n  " : ", ") : "") << literal(k[i]);
   if (k.empty()) out << "0.0";
-  out << ");\n" << kHelpers;
+  out << ");\n" << kHelpers << helpers;
   out << kernels.str();
   out << "// The distance, and the material of the child that decides it (-1: none) in .y.\nvec2 map(vec3 p) {\n";
   for (int i = 0; i <= vmax; ++i) out << "  float v" << i << " = 0.0; int m" << i << " = -1;\n";
@@ -370,19 +442,20 @@ std::string marcher_code(const Scene& s) {
   out << "// outcome: 0 hit, 1 past maxDist, 2 out of steps, 3 started inside, 4 not finite; minAbsF: smallest |f|.\n"
       << "struct March { float t; int steps; float minAbsF; int outcome; };\n"
       << hit_eps_code(s)
-      << "float probe(inout March r, vec3 ro, vec3 rd, float t) {\n"
-      << "  float v = map(ro + rd * t).x; r.steps++; r.t = t;\n"
+      << "// side: 1 outside the surface, -1 inside it (the field negated, as refraction marches through a solid).\n"
+      << "float probe(inout March r, vec3 ro, vec3 rd, float t, float side) {\n"
+      << "  float v = side * map(ro + rd * t).x; r.steps++; r.t = t;\n"
       << "  if (abs(v) < r.minAbsF) r.minAbsF = abs(v);\n  return v;\n}\n"
-      << "March march(vec3 ro, vec3 rd, float maxDist) {\n"
+      << "March march(vec3 ro, vec3 rd, float maxDist, float side) {\n"
       << "  March r = March(0.0, 0, 1e38, 2);\n";
   if (m.marcher == Marcher::fixed) {
     out << "  float t = 0.0, prevT = 0.0;\n  while (r.steps < MAX_STEPS) {\n"
-        << "    float v = probe(r, ro, rd, t), eps = hitEps(t);\n"
+        << "    float v = probe(r, ro, rd, t, side), eps = hitEps(t);\n"
         << "    if (isnan(v) || isinf(v)) { r.outcome = 4; return r; }\n"
         << "    if (r.steps == 1 && v < -eps) { r.outcome = 3; return r; }\n"
         << "    if (v < eps) {\n      if (v > -eps || r.steps == 1) { r.outcome = 0; return r; }\n"
         << "      float lo = prevT, hi = t;  // crossed between prevT (outside) and t (inside)\n"
-        << "      while (r.steps < MAX_STEPS) {\n        float mid = lo + (hi - lo) * 0.5, vm = probe(r, ro, rd, mid);\n"
+        << "      while (r.steps < MAX_STEPS) {\n        float mid = lo + (hi - lo) * 0.5, vm = probe(r, ro, rd, mid, side);\n"
         << "        if (isnan(vm) || isinf(vm)) { r.outcome = 4; return r; }\n"
         << "        if (abs(vm) < hitEps(mid) || !(mid > lo && mid < hi)) { r.outcome = 0; return r; }\n"
         << "        if (vm > 0.0) lo = mid; else hi = mid;\n      }\n      r.t = lo; return r;\n    }\n"
@@ -392,7 +465,7 @@ std::string marcher_code(const Scene& s) {
   }
   out << "  float t = 0.0, omega = " << literal(m.marcher == Marcher::relaxed ? float(m.relaxation) : 1.0f)
       << ", prevT = 0.0, prevF = 0.0, prevStep = 0.0;\n  const float scale = " << literal(float(per_unit)) << ";\n"
-      << "  while (r.steps < MAX_STEPS) {\n    float v = probe(r, ro, rd, t), eps = hitEps(t);\n"
+      << "  while (r.steps < MAX_STEPS) {\n    float v = probe(r, ro, rd, t, side), eps = hitEps(t);\n"
       << "    if (isnan(v) || isinf(v)) { r.outcome = 4; return r; }\n"
       << "    if (r.steps == 1 && v < -eps) { r.outcome = 3; return r; }\n"
       << "    if (omega > 1.0 && abs(v) + prevF < prevStep) {  // the spheres do not overlap: a plain step back\n"
@@ -477,7 +550,7 @@ std::string shadow_functions(const Scene& s) {
       << "  float eps = hitEps(t), offset = bias == 0 ? eps * factor : eps;\n"
       << "  if (bias == 2) offset = 2.0 * eps + factor * 1.1920929e-7 * (max(max(abs(p.x), abs(p.y)), abs(p.z)) + t);\n"
       << "  vec3 o = p + n * offset; float far = min(MAX_DIST, dist);\n"
-      << "  if (soft == 0) {\n    March r = march(o, l, far);\n"
+      << "  if (soft == 0) {\n    March r = march(o, l, far, 1.0);\n"
       << "    bool blocked = r.outcome == 0 || r.outcome == 3;\n"
       << "    if (bias == 1 && r.t <= factor * eps) blocked = false;\n    return blocked ? 0.0 : 1.0;\n  }\n"
       << "  float res = 1.0, s = 0.0, prevH = 3.4e38;\n"
@@ -513,7 +586,7 @@ std::string lighting_code(const Scene& s) {
   const Effects& e = s.effects;
   std::ostringstream out;
   out << "vec3 shade(vec3 p, vec3 n, vec3 eye, int m, float t, float ao) {\n"
-      << "  vec3 albedo = materialColor(m), to_eye = length(eye - p) > 0.0 ? normalize(eye - p) : n;\n"
+      << "  vec3 albedo = materialColor(m, p, n), to_eye = length(eye - p) > 0.0 ? normalize(eye - p) : n;\n"
       << "  vec3 col = albedo * " << literal(float(e.ambient)) << " * ao;\n"
       << "  int model = materialSpecular(m); float strength = materialStrength(m), shininess = materialShininess(m);\n";
   const bool toon = e.shading == Shading::toon;
@@ -551,22 +624,93 @@ std::string materials_code(const Scene& s) {
   for (size_t i = 0; i < s.materials.size(); ++i) {
     const Material& m = s.materials[i];
     glm::dvec3 c = m.color;
-    if (m.ramp_value >= 0 && !s.effects.ramp.empty()) {
+    const bool ramped = m.ramp_value >= 0 && !s.effects.ramp.empty();  // the ramp's colour, untextured
+    if (ramped) {
       const auto& ramp = s.effects.ramp;
       const double x = m.ramp_value * static_cast<double>(ramp.size() - 1);
       const size_t a = std::min(static_cast<size_t>(x), ramp.size() - 1), b = std::min(a + 1, ramp.size() - 1);
       c = glm::mix(ramp[a], ramp[b], x - static_cast<double>(a));
     }
-    color << "  if (m == " << i << ") return " << vec3_literal(c) << ";\n";
+    // Textures are looked up just below the surface, as the seed does (p - n * SURF_DIST).
+    const std::string scale = literal(float(m.texture_scale));
+    std::string texture;
+    if (!ramped && m.texture == TextureMapping::planar) texture = " * mc_soil(q.x * " + scale + ", q.z * " + scale + ")";
+    if (!ramped && m.texture == TextureMapping::spherical)
+      texture = " * mc_soil((0.5 + atan(normalize(q).z, normalize(q).x) / 6.28318531) * " + scale +
+                ", (0.5 - asin(clamp(normalize(q).y, -1.0, 1.0)) / 3.14159265) * " + scale + ")";
+    color << "  if (m == " << i << ") return " << vec3_literal(c) << texture << ";\n";
     model << "  if (m == " << i << ") return "
           << (m.specular == SpecularModel::none ? 0 : m.specular == SpecularModel::phong ? 1 : 2) << ";\n";
     strength << "  if (m == " << i << ") return " << literal(float(m.specular_strength)) << ";\n";
     shininess << "  if (m == " << i << ") return " << literal(float(m.shininess)) << ";\n";
   }
-  return "vec3 materialColor(int m) {\n" + color.str() + "  return vec3(0.8);\n}\n" +
+  return "vec3 materialColor(int m, vec3 p, vec3 n) {\n  vec3 q = p - n * SURF_DIST;\n" + color.str() +
+         "  return vec3(0.8);\n}\n" +
          "int materialSpecular(int m) {\n" + model.str() + "  return 0;\n}\n" +
          "float materialStrength(int m) {\n" + strength.str() + "  return 0.0;\n}\n" +
          "float materialShininess(int m) {\n" + shininess.str() + "  return 1.0;\n}\n";
+}
+
+// Whether a material of the scene reflects or refracts secondary rays.
+bool bounces(const Scene& s) {
+  for (const Material& m : s.materials)
+    if ((m.reflectivity > 0 || m.transparency > 0) && s.effects.max_bounces > 0) return true;
+  return false;
+}
+
+// Mirror and refraction rays as march's Tracer follows them (reflect, refract through the solid marching the negated
+// field, Schlick's Fresnel), to the scene's bounce depth. GLSL has no recursion: each depth is its own function,
+// traceN marching and lighting a secondary ray, bounceN mixing in what the rays of depth N + 1 see.
+std::string bounce_code(const Scene& s) {
+  if (!bounces(s)) return "";
+  const int depth = s.effects.max_bounces;
+  std::ostringstream out, reflectivity, transparency, ior;
+  for (size_t i = 0; i < s.materials.size(); ++i) {
+    const Material& m = s.materials[i];
+    reflectivity << "  if (m == " << i << ") return " << literal(float(m.reflectivity)) << ";\n";
+    transparency << "  if (m == " << i << ") return " << literal(float(m.transparency)) << ";\n";
+    ior << "  if (m == " << i << ") return " << literal(float(m.ior)) << ";\n";
+  }
+  out << "float materialReflectivity(int m) {\n" << reflectivity.str() << "  return 0.0;\n}\n"
+      << "float materialTransparency(int m) {\n" << transparency.str() << "  return 0.0;\n}\n"
+      << "float materialIor(int m) {\n" << ior.str() << "  return 1.5;\n}\n"
+      << "float schlick(float c, float n1, float n2) {\n  float r0 = (n1 - n2) / (n1 + n2), k = 1.0 - clamp(c, 0.0, 1.0);\n"
+      << "  return r0 * r0 + (1.0 - r0 * r0) * k * k * k * k * k;\n}\n"
+      << "// Into the solid at p and out again (bouncing inside at most 4 times): false when the ray stays in.\n"
+      << "bool refractThrough(vec3 p, vec3 n, vec3 d, float ior, float t, out vec3 exitPoint, out vec3 exitDir) {\n"
+      << "  vec3 dir = refract(d, n, 1.0 / ior);\n  if (dot(dir, dir) == 0.0) return false;\n"
+      << "  float eps = hitEps(0.0) + 1e-6;\n  vec3 at = p - n * (2.0 * eps);\n"
+      << "  for (int bounce = 0; bounce <= 4; ++bounce) {\n    March r = march(at, dir, MAX_DIST, -1.0);\n"
+      << "    if (r.outcome != 0) return false;\n    vec3 exitAt = at + dir * r.t, nn = calcNormal(exitAt, t);\n"
+      << "    vec3 refracted = refract(dir, -nn, ior);\n"
+      << "    if (dot(refracted, refracted) > 0.0) {\n"
+      << "      exitPoint = exitAt + nn * (2.0 * eps); exitDir = normalize(refracted); return true;\n    }\n"
+      << "    dir = reflect(dir, -nn);\n    at = exitAt - nn * (2.0 * eps);\n  }\n  return false;\n}\n";
+  for (int d = depth; d >= 0; --d) {
+    const std::string next = std::to_string(d + 1);
+    out << "vec3 bounce" << d << "(vec3 local, vec3 p, vec3 n, vec3 dir, int m, float t) {\n";
+    if (d == depth)
+      out << "  return local;\n}\n";
+    else
+      out << "  float reflectivity = materialReflectivity(m), transparency = materialTransparency(m);\n"
+        << "  if (m < 0 || (reflectivity <= 0.0 && transparency <= 0.0)) return local;\n"
+        << "  float offset = 2.0 * hitEps(t) + 1e-4;\n"
+        << "  vec3 reflected = trace" << next << "(p + n * offset, reflect(dir, n));\n"
+        << "  vec3 color = mix(local, reflected, reflectivity);\n"
+        << "  if (transparency > 0.0) {\n    vec3 exitPoint, exitDir, refracted = " << vec3_literal(s.effects.background) << ";\n"
+        << "    if (refractThrough(p, n, dir, materialIor(m), t, exitPoint, exitDir)) refracted = trace" << next
+        << "(exitPoint, exitDir);\n"
+        << "    float fresnel = schlick(-dot(dir, n), 1.0, materialIor(m));\n"
+        << "    color = mix(color, fresnel * reflected + (1.0 - fresnel) * refracted, transparency);\n  }\n"
+        << "  return color;\n}\n";
+    if (d == 0) continue;
+    // The ray of depth d: marched, its surface lit from its origin, its own bounces.
+    out << "vec3 trace" << d << "(vec3 ro, vec3 rd) {\n  March r = march(ro, rd, MAX_DIST, 1.0);\n"
+        << "  if (r.outcome != 0) return " << vec3_literal(s.effects.background) << ";\n"
+        << "  vec3 p = ro + rd * r.t, n = calcNormal(p, r.t);\n  int m = int(map(p).y);\n"
+        << "  return bounce" << d << "(shade(p, n, ro, m, r.t, 1.0), p, n, rd, m, r.t);\n}\n";
+  }
+  return out.str();
 }
 
 // mainImage: the camera's ray, the march (stopped at a nearer mesh), the surface lit, then the renderer's
@@ -578,9 +722,9 @@ std::string main_image_code(const Scene& s) {
          "  return mix(1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, 12.92 * c, vec3(lessThanEqual(c, vec3(0.0031308))));\n}\n";
   out << "void mainImage(out vec4 fragColor, in vec2 fragCoord) {\n  vec3 ro, rd;\n  cameraRay(fragCoord, ro, rd);\n";
   if (s.meshes.empty())
-    out << "  March r = march(ro, rd, MAX_DIST);\n";
+    out << "  March r = march(ro, rd, MAX_DIST, 1.0);\n";
   else
-    out << "  MeshHit mesh = meshHit(ro, rd, MAX_DIST);\n  March r = march(ro, rd, mesh.t);\n";
+    out << "  MeshHit mesh = meshHit(ro, rd, MAX_DIST);\n  March r = march(ro, rd, mesh.t, 1.0);\n";
   // The seed defect the renderer reproduces: a miss read as distance 0 (a hit at the ray's origin).
   if (s.march.miss_as_zero) out << "  if (r.outcome != 0) { r.outcome = 0; r.t = 0.0; }\n";
   const bool meshes = !s.meshes.empty();
@@ -595,6 +739,7 @@ std::string main_image_code(const Scene& s) {
       << (meshes ? "onMesh ? 1.0 : " : "") << "occlusion(p, n));\n";
   if (e.ao == AmbientOcclusion::steps)
     out << "    col -= vec3(float(r.steps) * float(r.steps) * " << literal(float(e.ao_steps_scale)) << ");\n";
+  if (bounces(s)) out << "    col = bounce0(col, p, n, rd, m, t);\n";
   out << "    col = max(col, vec3(0.0));\n";
   if (e.fog > 0)
     out << "    col = mix(" << vec3_literal(e.fog_color) << ", col, exp(-" << literal(float(e.fog)) << " * t));\n";
@@ -608,28 +753,23 @@ std::string main_image_code(const Scene& s) {
 
 }  // namespace
 
-std::vector<std::string> glsl_unexported_effects(const Scene& scene) {
-  std::vector<std::string> out;
-  for (const std::string& e : declared_effects(scene))
-    if (e.starts_with("texture:") || e == "reflection" || e == "refraction") out.push_back(e);
-  return out;
-}
-
 std::string shadertoy_shader(const Scene& scene) {
   const Scene& s = scene;
   std::ostringstream out;
-  std::string left_out;
-  for (const std::string& e : glsl_unexported_effects(s)) left_out += " " + e;
   out << "// " << s.name << ", exported by marchcheck (scenes --export-glsl): paste into Shadertoy as it is.\n"
-      << "// The map is the scene's compiled field; the camera, marcher, normals, meshes, lights, shadows, occlusion,\n"
-      << "// glow and fog are the scene's, computed as marchcheck's renderer does, at the scene's time.\n"
-      << (left_out.empty() ? "" : "// Left out (this export does not write them):" + left_out + ".\n");
+      << "// The map is the scene's compiled field; the camera, marcher, normals, meshes, lights, shadows, textures,\n"
+      << "// occlusion, reflections, refraction, glow and fog are the scene's, computed as marchcheck's renderer\n"
+      << "// computes them, at the scene's time.\n";
   out << "#define MAX_STEPS " << s.march.max_steps << "\n#define MAX_DIST " << literal(float(std::min(s.march.max_dist, 1e30)))
       << "\n#define SURF_DIST " << literal(float(s.march.hit_eps)) << "\n";
-  out << glsl_map(s.root, s.time, s.name) << marcher_code(s);
-  out << "float rayMarch(vec3 ro, vec3 rd) { return march(ro, rd, MAX_DIST).t; }\n";
+  const std::string map = glsl_map(s.root, s.time, s.name);
+  out << map << marcher_code(s);
+  out << "float rayMarch(vec3 ro, vec3 rd) { return march(ro, rd, MAX_DIST, 1.0).t; }\n";
+  bool textured = false;
+  for (const Material& m : s.materials) textured = textured || m.texture != TextureMapping::none;
+  if (textured) out << (map.find("float mc_lattice(") == std::string::npos ? kNoiseHelpers : "") << kSoilTexture;
   out << normal_code(s) << meshes_code(s) << shadow_functions(s) << occlusion_code(s) << materials_code(s)
-      << lighting_code(s) << camera_code(s) << main_image_code(s);
+      << lighting_code(s) << bounce_code(s) << camera_code(s) << main_image_code(s);
   return out.str();
 }
 

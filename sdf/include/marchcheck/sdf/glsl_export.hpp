@@ -6,24 +6,19 @@
 #include "marchcheck/sdf/scene.hpp"
 
 #include <string>
-#include <vector>
 
 namespace marchcheck::sdf {
 
 // `vec2 map(vec3 p)`: the compiled tree at `time`, one statement per tape instruction over GLSL kernels that mirror
 // the C++ ones operation for operation, its constants rounded to float as the tape's are; .y is the deciding
 // material (-1: none). Throws SceneError naming the scene (`name`) when an operator has no GLSL form (meshes,
-// GLSL fields, the heightfield's 64-bit hash) and says why.
+// GLSL fields) and says why.
 std::string glsl_map(const Node& root, double time, const std::string& name);
 
 // The scene as a Shadertoy shader (mainImage) that draws what marchcheck's renderer draws: glsl_map, the scene's
 // camera (every model, lens distortion included), marcher with its limits (MAX_STEPS, MAX_DIST, SURF_DIST),
-// normals, triangle meshes, lights, hard and soft shadows, ambient occlusion, glow and fog, at the scene's time.
-// What it leaves out (glsl_unexported_effects) is said at the top of the shader. Throws SceneError as glsl_map.
+// normals, triangle meshes, lights, hard and soft shadows, the soil texture, ambient occlusion, reflection and
+// refraction to the scene's depth, glow and fog, at the scene's time. Throws SceneError as glsl_map.
 std::string shadertoy_shader(const Scene& scene);
-
-// The effects the scene declares (declared_effects) that shadertoy_shader does not write: textures, reflection
-// and refraction.
-std::vector<std::string> glsl_unexported_effects(const Scene& scene);
 
 }  // namespace marchcheck::sdf
