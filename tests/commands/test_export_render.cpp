@@ -107,6 +107,7 @@ TEST(ExportRender, EverySettingTheExportWritesRendersAsTheRenderer) {
       {"lee-flat", {{"effects.fog", "0.15"}}},
       {"lee-flat", {{"effects.ao", "samples"}, {"effects.ao_distance", "0.3"}, {"effects.ambient", "0.5"}}},
       {"flafla-occlusion", {{"camera.position", "1.5,0.8,1.6"}, {"camera.target", "1,0,0"}}},
+      {"lee-textured", {{"camera.distance", "3"}}},  // the textures close up
       // A mirror sphere, two bounces deep, over a half-mirror ground.
       {"lee-flat", {{"effects.max_bounces", "2"}}, [](sdf::Scene& s) {
          for (sdf::Material& m : s.materials) m.reflectivity = 0.6;
