@@ -82,6 +82,7 @@ TEST(Glsl, BuiltinsAndConstructsFollowTheGlslSpecification) {
       {"return float(7 / int(p.z)) + 10.0 * float(-7 / int(p.z));", 3 - 30},  // truncation toward zero
       {"return float(7 % int(p.z + 1.0)) + float(uint(7) >> 1u);", 1 + 3},
       {"return float(floatBitsToUint(p.y) >> 23);", 126},  // 0.5's exponent field
+      {"return float(uint(7 % int(p.z + 2.0))) + float(int(0xfffffffeu));", 3 - 2},  // int <-> uint: the same bits
       {"float a[3] = float[3](1.0, 2.0, 3.0); return a[int(p.z)];", 3},
       {"switch (int(p.z)) { case 1: return 4.0; case 2: return 5.0; default: return 1.0; }", 5},
       {"return any(greaterThan(p, vec3(1.0))) && !all(lessThan(p, vec3(1.0))) ? 1.0 : 0.0;", 1},

@@ -612,8 +612,9 @@ bool Decoder::arithmetic(spv::Op op) {
     case OpAny: case OpAll: over_components(Code::reduce, static_cast<std::uint16_t>(op), false); return true;
     case OpConvertFToS: case OpConvertFToU: case OpConvertSToF: case OpConvertUToF: case OpBitcast:
       componentwise(Code::convert, static_cast<std::uint16_t>(op), w_[1], w_[0], {w_[2]});
-      // A bitcast's direction is its operand's kind: kept in step_b's place, unused by conversions otherwise.
-      p_.code.back().step_b = kind_of(w_[2]) == Kind::floating ? 1 : 0;
+      // A bitcast's direction, kept in step_b's place (unused by conversions otherwise): 1 float to integer, 0 integer
+      // to float, 2 between integers (int and uint: the same bits).
+      p_.code.back().step_b = kind_of(w_[2]) == Kind::floating ? 1 : type(w_[0]).kind == Kind::floating ? 0 : 2;
       return true;
     case OpDot: over_components(Code::dot, 0, true); return true;
     case OpMatrixTimesVector: case OpVectorTimesMatrix: case OpMatrixTimesMatrix: {

@@ -425,7 +425,9 @@ class Evaluator {
       case spv::OpConvertSToF: f_[r] = constant<T>(as_signed(i_[a])); break;
       case spv::OpConvertUToF: f_[r] = constant<T>(as_unsigned(i_[a])); break;
       default:  // a bitcast: a float's bits are its float rounding's, also in double (the shader's floats)
-        if (in.step_b) {
+        if (in.step_b == 2) {
+          i_[r] = i_[a];
+        } else if (in.step_b == 1) {
           i_[r] = std::bit_cast<std::uint32_t>(static_cast<float>(value_of(f_[a])));
         } else {
           f_[r] = constant<T>(std::bit_cast<float>(as_unsigned(i_[a])));
