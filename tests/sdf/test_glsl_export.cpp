@@ -72,7 +72,7 @@ TEST(GlslExport, TheHeightfieldsHashAgreesAtEveryMagnitude) {
   EXPECT_EQ(first_difference(field, 0, "heightfield", at), "");
 }
 
-TEST(GlslExport, EveryBuiltinWithoutAMeshRoundTripsBitForBit) {
+TEST(GlslExport, EveryBuiltinButTheLargeMeshRoundTripsBitForBit) {
   int exported = 0;
   for (const std::string& name : builtin_scene_names()) {
     const Scene scene = builtin_scene(name);
@@ -86,7 +86,7 @@ TEST(GlslExport, EveryBuiltinWithoutAMeshRoundTripsBitForBit) {
       EXPECT_NE(why.find("mesh"), std::string::npos) << name << ": " << why;
     }
   }
-  EXPECT_EQ(exported, 27);  // of 29: mesh-icosphere and mesh-box have mesh nodes
+  EXPECT_EQ(exported, 28);  // of 29: mesh-icosphere's mesh has more triangles than the export takes
 }
 
 }  // namespace

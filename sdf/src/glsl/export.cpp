@@ -18,6 +18,13 @@ namespace marchcheck::sdf {
 
 namespace {
 
+// A float as a GLSL literal that reads back as the same float: 9 significant digits.
+std::string literal(float v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9e", static_cast<double>(v));
+  return text;
+}
+
 // smath's helpers as GLSL, the same operations in the same order: GLSL's own min, max, clamp, mix and round
 // are not specified to (NaN, signed zeros, mix's a (1 - t) + b t, round's ties).
 constexpr const char* kHelpers = R"(float mc_min(float a, float b) { return b < a ? b : a; }
@@ -107,6 +114,76 @@ vec3 mc_soil(float s, float t) {
 }
 )";
 
+// mesh_distance.hpp's signed distance over every triangle: leaf_distance2's squared distance (its candidates
+// chosen in its order), the nearest triangle's closest point and feature by closest_on_triangle, the sign from that
+// feature's pseudonormal. Ties go to the first triangle in the search's order, as the search's do at equal boxes.
+constexpr const char* kMeshHelpers = R"(float mc_triangle_distance2(vec3 p, vec3 a, vec3 b, vec3 c) {
+  vec3 ab = b - a, ac = c - a, bc = c - b, ap = p - a, bp = p - b, cp = p - c;
+  float d1 = mc_dot(ab, ap), d2 = mc_dot(ac, ap), d3 = mc_dot(ab, bp), d4 = mc_dot(ac, bp);
+  float d5 = mc_dot(ab, cp), d6 = mc_dot(ac, cp);
+  float vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
+  float denom = 1.0 / (va + vb + vc), v = vb * denom, w = vc * denom;
+  vec3 q = a + ab * v + ac * w;
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) q = b + bc * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) q = a + ac * (d2 / (d2 - d6));
+  if (d6 >= 0.0 && d5 <= d6) q = c;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) q = a + ab * (d1 / (d1 - d3));
+  if (d3 >= 0.0 && d4 <= d3) q = b;
+  if (d1 <= 0.0 && d2 <= 0.0) q = a;
+  vec3 d = p - q;
+  return d.x * d.x + d.y * d.y + d.z * d.z;
+}
+// The closest point and its feature (0-2 vertices, 3 edge 01, 4 edge 12, 5 edge 20, 6 the face).
+vec3 mc_closest_on_triangle(vec3 p, vec3 a, vec3 b, vec3 c, out int feature) {
+  vec3 ab = b - a, ac = c - a, ap = p - a;
+  float d1 = mc_dot(ab, ap), d2 = mc_dot(ac, ap);
+  feature = 0; if (d1 <= 0.0 && d2 <= 0.0) return a;
+  vec3 bp = p - b; float d3 = mc_dot(ab, bp), d4 = mc_dot(ac, bp);
+  feature = 1; if (d3 >= 0.0 && d4 <= d3) return b;
+  float vc = d1 * d4 - d3 * d2;
+  feature = 3; if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + ab * (d1 / (d1 - d3));
+  vec3 cp = p - c; float d5 = mc_dot(ab, cp), d6 = mc_dot(ac, cp);
+  feature = 2; if (d6 >= 0.0 && d5 <= d6) return c;
+  float vb = d5 * d2 - d1 * d6;
+  feature = 5; if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
+  float va = d3 * d6 - d5 * d4;
+  feature = 4; if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  feature = 6; float denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+)";
+
+// The triangles a mesh may have for the export: a shader visits every one at every evaluation.
+constexpr std::size_t kExportedTrianglesMax = 512;
+
+// One mesh's kernel: its triangles and pseudonormals (by feature) as constant arrays, in the search's order.
+std::string mesh_kernel(const MeshDistance& mesh, const std::string& name, const std::string& scene) {
+  const auto& corners = mesh.float_corners();
+  const auto& normals = mesh.float_pseudonormals();
+  if (corners.size() > kExportedTrianglesMax)
+    throw SceneError("cannot export " + scene + " as GLSL: a mesh of " + std::to_string(corners.size()) +
+                     " triangles (a shader visits every triangle at every evaluation; the export takes at most " +
+                     std::to_string(kExportedTrianglesMax) + ")");
+  auto vec3_of = [](glm::vec3 v) { return "vec3(" + literal(v.x) + ", " + literal(v.y) + ", " + literal(v.z) + ")"; };
+  std::ostringstream out;
+  const size_t n = corners.size();
+  out << "const vec3 " << name << "_CORNERS[" << 3 * n << "] = vec3[](";
+  for (size_t i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) out << (i + k ? ",\n  " : "") << vec3_of(corners[i][static_cast<size_t>(k)]);
+  // Feature order here: vertices 0-2, edge 01, edge 12, edge 20, face (meshes::TriangleFeature's).
+  out << ");\nconst vec3 " << name << "_NORMALS[" << 7 * n << "] = vec3[](";
+  for (size_t i = 0; i < n; ++i)
+    for (int k = 0; k < 7; ++k) out << (i + k ? ",\n  " : "") << vec3_of(normals[i][static_cast<size_t>(k)]);
+  out << ");\nfloat " << name << "(vec3 p) {\n  float best2 = uintBitsToFloat(0x7f800000u); int best = 0;  // infinity\n"
+      << "  for (int i = 0; i < " << n << "; ++i) {\n"
+      << "    float d2 = mc_triangle_distance2(p, " << name << "_CORNERS[3 * i], " << name << "_CORNERS[3 * i + 1], "
+      << name << "_CORNERS[3 * i + 2]);\n    if (d2 < best2) { best2 = d2; best = i; }\n  }\n"
+      << "  int feature; vec3 q = mc_closest_on_triangle(p, " << name << "_CORNERS[3 * best], " << name
+      << "_CORNERS[3 * best + 1], " << name << "_CORNERS[3 * best + 2], feature);\n"
+      << "  return (mc_dot(p - q, " << name << "_NORMALS[7 * best + feature]) < 0.0 ? -1.0 : 1.0) * sqrt(best2);\n}\n";
+  return out.str();
+}
+
 // Each kernel's GLSL: the C++ kernel's expressions, K[at + i] for its k(i). Empty: not exportable (why).
 struct GlslKernel {
   const char* code;
@@ -170,7 +247,7 @@ const std::map<TapeOp, GlslKernel>& glsl_kernels() {
                           "  if (!(m > 0.0)) return -sqrt(mc_dot(p, p));\n"
                           "  float estimate = 0.25 * log(m) * sqrt(m) / dz;\n"
                           "  return mc_dot(p, p) > 4.0 && ball < estimate ? ball : estimate; }", "", true}},
-    {TapeOp::mesh, {"", "a mesh's triangles are data a shader has no place for"}},
+    {TapeOp::mesh, {"", "", false, kMeshHelpers}},  // written per mesh: mesh_kernel
     {TapeOp::glsl, {"", "a GLSL field is exported by pasting its own source"}},
     {TapeOp::circle, {"float k_circle(int at, vec3 p) { return mc_length(vec2(p.x - K[at], p.y - K[at + 1])) - K[at + 2]; }"}},
     {TapeOp::rect, {"float k_rect(int at, vec3 p) { vec2 d = abs(vec2(p.x - K[at], p.y - K[at + 1])) - vec2(K[at + 2], K[at + 3]);\n"
@@ -241,13 +318,6 @@ Shape shape_of(TapeOp op) {
   }
 }
 
-// A float as a GLSL literal that reads back as the same float: 9 significant digits.
-std::string literal(float v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.9e", static_cast<double>(v));
-  return text;
-}
-
 // A kernel for one instruction: renamed, and its constants at fixed places (K[at], K[at + 2]) written as
 // literals, which the evaluator reads as constants (indexing K costs an integer add and a lookup each); the
 // places a loop computes still index K.
@@ -293,7 +363,16 @@ std::string glsl_map(const Node& root, double time, const std::string& name) {
     const auto found = glsl_kernels().find(in.op);
     if (found == glsl_kernels().end()) throw std::logic_error("internal: a tape kernel without its GLSL");
     const GlslKernel& kernel = found->second;
-    if (!*kernel.code) throw SceneError("cannot export " + name + " as GLSL: " + kernel.why_not);
+    if (*kernel.why_not) throw SceneError("cannot export " + name + " as GLSL: " + kernel.why_not);
+    if (in.op == TapeOp::mesh) {  // its data is the kernel
+      const std::string kname = "k_mesh_" + std::to_string(&in - tape.code.data());
+      if (helpers.find(kernel.helpers) == std::string::npos) helpers += kernel.helpers;
+      kernels << mesh_kernel(*tape.meshes[in.arg], kname, name);
+      ++vt;
+      body << "  v" << vt << " = " << kname << "(p" << pt << "); m" << vt << " = " << in.material << ";\n";
+      vmax = std::max(vmax, vt);
+      continue;
+    }
     const std::string fn = std::string(kernel.code);
     std::string kname = fn.substr(fn.find("k_"), fn.find('(') - fn.find("k_"));
     if (kname.back() == '_') kname.pop_back();  // GLSL reserves names with "__"

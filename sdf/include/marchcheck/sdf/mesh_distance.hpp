@@ -54,6 +54,11 @@ class MeshDistance {
   template <class T>
   T signed_distance(glm::vec<3, T> p) const;
 
+  // The float search's triangles in its order, with their pseudonormals by Feature: what a shader needs to compute
+  // signed_distance<float> over every triangle (sdf::glsl_map).
+  const std::vector<std::array<glm::vec3, 3>>& float_corners() const { return single_.corners; }
+  const std::vector<std::array<glm::vec3, 7>>& float_pseudonormals() const { return single_.normals; }
+
  private:
   // Up to kLeafWidth triangles side by side, each corner and edge vector as one array per axis, so their
   // distances are computed together; unused lanes repeat the last triangle.
