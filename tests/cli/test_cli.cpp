@@ -484,4 +484,21 @@ TEST_F(Cli, ScenesExportAShadertoyShaderOrSayWhyNot) {
   expect_bad_input("scenes --export-glsl no-such-scene", "no-such-scene");
 }
 
+// The export's own marcher and normals, judged as a user's are: they pass, and the driver runs them as the CPU
+// does, to the ulp. Broken variant: the exported marcher without its relaxed fallback (sdf-export-relaxed-no-fallback)
+// overshoots.
+TEST_F(Cli, AnExportedShadersOwnMarcherPassesAsAUsersWould) {
+  std::string relaxed = run("scenes --export crum-torus").output;
+  relaxed.replace(relaxed.find("\"sphere\""), 8, "\"relaxed\"");
+  relaxed.replace(relaxed.find("\"relaxation\": 1.6"), 17, "\"relaxation\": 1.9");
+  std::ofstream(path("relaxed.json")) << relaxed;
+  for (const std::string& scene : {std::string("crum-torus"), path("relaxed.json")}) {
+    std::ofstream(path("exported.glsl")) << run("scenes --export-glsl " + scene).output;
+    const CommandRun r = run("validate " + path("exported.glsl") + " --march rayMarch --normal calcNormal");
+    if (r.status == 2 && r.output.find("no GL driver") != std::string::npos) GTEST_SKIP() << r.output;
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("0 rays with another outcome, t within 0 ulps where both hit"), std::string::npos) << r.output;
+  }
+}
+
 }  // namespace
