@@ -190,6 +190,34 @@ const std::vector<Field<Material>>& material_fields() {
   return table;
 }
 
+// The scene's GLSL fields, each given to f (a std::shared_ptr<const GlslField>&).
+template <class F>
+void each_glsl_field(Node& n, F&& f) {
+  if (n.op == Op::glsl) f(n.glsl);
+  for (Node& c : n.children) each_glsl_field(c, f);
+}
+
+// precision: the march's float or double; half (GLSL's mediump) is the march in float with the scene's GLSL fields
+// evaluated in binary16, and only a scene with a GLSL field has it.
+json precision_of(const Scene& s) {
+  bool half = false;
+  each_glsl_field(const_cast<Node&>(s.root), [&](const auto& field) { half = half || field->spec().half; });
+  return half ? json("half") : json(enum_name(kPrecisions, s.march.precision));
+}
+
+void set_precision(Scene& s, const json& v, const std::string& where) {
+  const bool half = v == "half";
+  if (!half && v != "float" && v != "double") fail(where, "expected float, double or half");
+  s.march.precision = half ? Precision::float32 : enum_value(kPrecisions, v, where);
+  int fields = 0;
+  each_glsl_field(s.root, [&](std::shared_ptr<const GlslField>& field) {
+    field = std::make_shared<const GlslField>(field->with_half(half));
+    ++fields;
+  });
+  if (half && fields == 0)
+    fail(where, "half models GLSL's mediump, for GLSL fields; " + s.name + " has none");
+}
+
 const std::vector<Field<Scene>>& settings() {
   static const std::vector<Field<Scene>> table = {
       enum_field<Scene>("marcher", kMarchers, MEMBER(Scene, march.marcher)),
@@ -203,7 +231,7 @@ const std::vector<Field<Scene>>& settings() {
       enum_field<Scene>("normal", kNormals, MEMBER(Scene, march.normal)),
       number_field<Scene>("normal_eps", MEMBER(Scene, march.normal_eps), 1e-12, 1),
       bool_field<Scene>("normal_eps_scaled", MEMBER(Scene, march.normal_eps_scaled)),
-      enum_field<Scene>("precision", kPrecisions, MEMBER(Scene, march.precision)),
+      {"precision", precision_of, set_precision},
       bool_field<Scene>("miss_as_zero", MEMBER(Scene, march.miss_as_zero)),
       // Overrides for every light at once.
       {"shadow", nullptr,
@@ -352,6 +380,7 @@ void glsl_to_json(const GlslSpec& spec, json& j) {
     for (const auto& [name, value] : spec.uniforms) u[name] = value.size() == 1 ? json(value[0]) : json(value);
     j["uniforms"] = u;
   }
+  if (spec.half) j["precision"] = "half";
   j["kind"] = spec.measured ? "unknown" : std::string(to_string(spec.kind));
   if (!spec.measured && spec.kind == Kind::lipschitz) j["lipschitz"] = spec.lipschitz;
 }
@@ -392,7 +421,8 @@ std::string resolve_mesh_source(const std::string& source, const std::string& sc
 // A glsl node's field: its source file (beside the scene file) or inline code, compiled here.
 std::shared_ptr<const GlslField> glsl_from_json(const json& j, const std::string& path, const std::string& scene_path,
                                                 std::vector<std::string>& allowed) {
-  for (const char* key : {"source", "code", "function", "uniforms", "kind", "lipschitz"}) allowed.push_back(key);
+  for (const char* key : {"source", "code", "function", "uniforms", "kind", "lipschitz", "precision"})
+    allowed.push_back(key);
   GlslSpec spec;
   if (j.contains("source") == j.contains("code"))
     fail(path, "a glsl node needs \"source\" (a GLSL file) or \"code\" (the GLSL text), one of them");
@@ -425,6 +455,11 @@ std::shared_ptr<const GlslField> glsl_from_json(const json& j, const std::string
         v.push_back(number(value, where));
       }
     }
+  }
+  if (j.contains("precision")) {
+    if (!j["precision"].is_string() || (j["precision"] != "float" && j["precision"] != "half"))
+      fail(path + "/precision", "expected float or half (GLSL's mediump, in IEEE binary16)");
+    spec.half = j["precision"] == "half";
   }
   const std::string kind = j.contains("kind") && j["kind"].is_string() ? j["kind"].get<std::string>()
                            : j.contains("lipschitz")                   ? "lipschitz"
@@ -748,8 +783,8 @@ Scene scene_from_json(std::string_view text, const std::string& source, const Me
         scene.defects.push_back(j["defects"][i].get<std::string>());
       }
     }
-    for (const auto* s : section(""))
-      if (j.contains(s->key)) s->set(scene, j[s->key], "/" + s->key);
+    for (const auto* s : section(""))  // precision after the tree: half is its GLSL fields'
+      if (j.contains(s->key) && s->key != "precision") s->set(scene, j[s->key], "/" + s->key);
     if (j.contains("camera")) read_section(scene, j["camera"], "camera");
     if (j.contains("effects")) read_section(scene, j["effects"], "effects");
     if (j.contains("materials")) {
@@ -816,6 +851,7 @@ Scene scene_from_json(std::string_view text, const std::string& source, const Me
     scene.root = node_from_json(j["sdf"], "/sdf", scene, source, external, 0);
     if (j.contains("intended_sdf"))
       scene.intended = node_from_json(j["intended_sdf"], "/intended_sdf", scene, source, external, 0);
+    if (j.contains("precision")) set_precision(scene, j["precision"], "/precision");
     load_meshes(scene, loader);
     if (auto error = validate_tree(scene.root); !error.empty()) throw SceneError("/sdf" + error);
     if (scene.intended)

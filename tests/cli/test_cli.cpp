@@ -345,6 +345,28 @@ std::string check_line(const std::string& output, const std::string& check) {
   return at == std::string::npos ? "" : output.substr(at, output.find('\n', at) - at);
 }
 
+// GLSL's mediump (precision=half) on the feature tour: binary16 spaces values 2^-9 apart near |p| = 2 to 4, wider
+// than the default normal epsilon (1e-3), so central differences collapse and normals miss by over 5 degrees at
+// p99 where float's are within 2; hits still pass. Broken variants: Half without its rounding
+// (glsl-half-unrounded), the half flag ignored (glsl-half-ignored): the run is float's and passes.
+TEST_F(Cli, HalfPrecisionModelsMediumpAndItsNormalsFail) {
+  const std::string file = std::string(MARCHCHECK_TEST_DATA) + "/glsl/feature_tour.glsl";
+  const CommandRun r = run("validate " + file + " --set precision=half");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("feature_tour (half): FAIL"), std::string::npos) << r.output;
+  const std::string normals = check_line(r.output, "normal.angle_p99_deg");
+  EXPECT_NE(normals.find("FAIL"), std::string::npos) << r.output;
+  EXPECT_GT(std::atof(normals.c_str() + normals.find_first_of("0123456789")), 5) << normals;
+  for (const char* check : {"hit.false_hit", "hit.false_miss", "hit.overshoot"})
+    EXPECT_NE(check_line(r.output, check).find("pass"), std::string::npos) << check << "\n" << r.output;
+  expect_bad_input("validate lee-flat --set precision=half",
+                   "--set precision=half: half models GLSL's mediump, for GLSL fields; lee-flat has none");
+  expect_bad_input("validate " + file + " --set precision=quad", "--set precision=quad: expected float, double or half");
+  std::ofstream(path("half.json")) << R"({"name": "h", "sdf": {"type": "glsl", "code": "float map(vec3 p) { return )"
+                                      R"(length(p) - 1.0; }", "kind": "exact", "precision": "quarter"}})";
+  expect_bad_input("validate " + path("half.json"), "/precision: expected float or half");
+}
+
 // A field that claims a bound but is 1.5 times steeper is caught: marched in steps of f / L with its declared
 // L = 1, steps land inside the sphere (hit.overshoot: the march went through the first surface); declared with its
 // constant, the same field passes. (Seen from farther than 4, a first step of 1.5 times the distance jumps this

@@ -4,6 +4,7 @@
 #include "batch_compare.hpp"
 
 #include "marchcheck/sdf/glsl_field.hpp"
+#include "marchcheck/sdf/half.hpp"
 #include "marchcheck/sdf/node.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/sdf/tape.hpp"
@@ -93,6 +94,34 @@ TEST(Glsl, BuiltinsAndConstructsFollowTheGlslSpecification) {
     const Tape t = glsl_tape(std::string("float map(vec3 p) { ") + c.body + " }");
     EXPECT_NEAR(evaluate(t, glm::dvec3(-0.25, 0.5, 2)), c.expected, 1e-15) << c.body;
   }
+}
+
+// Binary16 as IEEE rounds it: to nearest, ties to even (2049 and 2051 lie halfway between neighbours 2 apart),
+// overflow past 65504 to infinity, underflow below half the smallest subnormal (2^-24) to zero.
+TEST(Glsl, HalfRoundsAsIeeeBinary16) {
+  EXPECT_EQ(float(Half(2049.0)), 2048.0f);
+  EXPECT_EQ(float(Half(2051.0)), 2052.0f);
+  EXPECT_EQ(float(Half(1.0) + Half(0x1p-11)), 1.0f);  // the tie goes to 1's even significand
+  EXPECT_EQ(float(Half(1.0) + Half(0x1p-10)), 1.0f + 0x1p-10f);
+  EXPECT_EQ(float(Half(0.1)), 0.0999755859375f);
+  EXPECT_TRUE(std::isinf(float(Half(65504.0) + Half(16.0))));
+  EXPECT_EQ(float(Half(0x1p-24) * Half(0.25)), 0.0f);
+  EXPECT_EQ(float(Half(3.0) / 7), float(Half(3.0f / 7.0f)));  // a number operand rounded first, then the quotient
+}
+
+// A GLSL field with precision half computes every operation in binary16: length(p) - 1 at p worked by hand, each
+// step rounded (r). The same field in float differs.
+TEST(Glsl, AHalfFieldRoundsEveryOperation) {
+  const auto r = [](double x) { return static_cast<double>(static_cast<float>(static_cast<_Float16>(x))); };
+  const double x = r(0.3), y = r(0.4), z = r(1.2);
+  const double want = r(r(std::sqrt(r(r(r(x * x) + r(y * y)) + r(z * z)))) - 1);
+  GlslSpec spec;
+  spec.measured = false;
+  spec.half = true;
+  const GlslField half(spec, "float map(vec3 p) { return length(p) - 1.0; }", "half.glsl");
+  EXPECT_EQ(half.distance(glm::vec3(0.3f, 0.4f, 1.2f)), static_cast<float>(want));
+  EXPECT_NE(half.with_half(false).distance(glm::vec3(0.3f, 0.4f, 1.2f)), static_cast<float>(want));
+  EXPECT_EQ(half.distance(glm::dvec3(0.3, 0.4, 1.2)), std::sqrt(0.09 + 0.16 + 1.44) - 1);  // double stays double
 }
 
 // The comparison can fail: the sphere 1 float ulp larger (0.75 + 2^-24 is representable) is caught nearly

@@ -4,6 +4,7 @@
 
 #include "program.hpp"
 
+#include "marchcheck/sdf/half.hpp"
 #include "marchcheck/sdf/lipschitz.hpp"
 
 #include <spirv/unified1/GLSL.std.450.h>
@@ -46,10 +47,19 @@ T floor_of(T x) {
   return chain(x, [](auto v) { return std::floor(v); }, [](auto) { return decltype(value_of(T{}))(0); });
 }
 
+// ln 2 in S (binary16: float's, rounded).
+template <class S>
+constexpr S ln2() {
+  if constexpr (std::is_floating_point_v<S>) {
+    return std::numbers::ln2_v<S>;
+  } else {
+    return S(std::numbers::ln2_v<float>);
+  }
+}
+
 template <class T>
 T f_unary(std::uint16_t which, T x) {
   using S = Value<T>;
-  constexpr S ln2 = std::numbers::ln2_v<S>;
   switch (which) {
     case spv::OpFNegate: return -x;
     case GLSLstd450Round: return chain(x, [](S v) { return std::round(v); }, [](S) { return S(0); });
@@ -79,8 +89,8 @@ T f_unary(std::uint16_t which, T x) {
     case GLSLstd450Exp: return chain(x, [](S v) { return std::exp(v); }, [](S v) { return std::exp(v); });
     case GLSLstd450Log: return chain(x, [](S v) { return std::log(v); }, [](S v) { return 1 / v; });
     case GLSLstd450Exp2:
-      return chain(x, [](S v) { return std::exp2(v); }, [](S v) { return std::exp2(v) * ln2; });
-    case GLSLstd450Log2: return chain(x, [](S v) { return std::log2(v); }, [](S v) { return 1 / (v * ln2); });
+      return chain(x, [](S v) { return std::exp2(v); }, [](S v) { return std::exp2(v) * ln2<S>(); });
+    case GLSLstd450Log2: return chain(x, [](S v) { return std::log2(v); }, [](S v) { return 1 / (v * ln2<S>()); });
     case GLSLstd450Sqrt:  // the derivative at 0 is infinite: 0 keeps a gradient through a kink finite
       return chain(x, [](S v) { return std::sqrt(v); }, [](S v) { return v > 0 ? S(0.5) / std::sqrt(v) : S(0); });
     case GLSLstd450InverseSqrt:
@@ -526,8 +536,16 @@ class Evaluator {
 
 template <class T>
 T GlslField::distance(glm::vec<3, T> p) const {
+  if constexpr (std::is_same_v<T, float>)
+    if (spec_.half) return distance(glm::vec<3, Half>(Half(p.x), Half(p.y), Half(p.z)));
   glsl::Frame<T>& frame = glsl::frame_for<T>(*program_);
   return glsl::Evaluator<T>(*program_, frame).run(p);
+}
+
+GlslField GlslField::with_half(bool half) const {
+  GlslField out = *this;
+  out.spec_.half = half;
+  return out;
 }
 
 bool GlslField::exhausted() const { return glsl::frame_for<double>(*program_).exhausted; }
@@ -564,5 +582,6 @@ template float GlslField::distance(glm::vec<3, float>) const;
 template double GlslField::distance(glm::vec<3, double>) const;
 template Dual<float> GlslField::distance(glm::vec<3, Dual<float>>) const;
 template Dual<double> GlslField::distance(glm::vec<3, Dual<double>>) const;
+template Half GlslField::distance(glm::vec<3, Half>) const;
 
 }  // namespace marchcheck::sdf

@@ -33,6 +33,9 @@ struct GlslSpec {
   Kind kind = Kind::lipschitz;
   bool measured = true;  // the kind was not declared: the Lipschitz constant is measured at compile time
   double lipschitz = 1;
+  // GLSL's mediump as mobile GPUs run it: the float evaluations computed in IEEE binary16 (half.hpp) instead;
+  // double and dual numbers stay as they are. A node's "precision": "half", or --set precision=half.
+  bool half = false;
 };
 
 namespace glsl {
@@ -44,10 +47,12 @@ class GlslField {
   // Compiles text (the file's contents; file names it in messages). Throws GlslError.
   GlslField(GlslSpec spec, const std::string& text, const std::string& file);
   const GlslSpec& spec() const { return spec_; }
+  // The same compiled field, its float evaluations in binary16 (half) or in float.
+  GlslField with_half(bool half) const;
   // SPIR-V instructions the evaluator runs per point, at most (loops aside).
   std::size_t instructions() const;
 
-  // The field at p. T: float, double, Dual<float>, Dual<double>. A shader that runs past kMaxSteps instructions
+  // The field at p. T: float (binary16 when spec().half), double, Dual<float>, Dual<double>, Half. A shader that runs past kMaxSteps instructions
   // (a loop that does not end) or discards gives NaN; one that does so at the origin is refused when compiled.
   template <class T>
   T distance(glm::vec<3, T> p) const;
