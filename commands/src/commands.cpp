@@ -222,6 +222,8 @@ int validate_user_marcher(const ValidateCommand& cmd, std::ostream& out, std::os
       out << "  driver against CPU (the same marcher, float): " << m.at("driver.outcome_differs")
           << " rays with another outcome, t within " << m.at("driver.t_ulps_max") << " ulps where both hit; float "
           << "against double on the CPU: " << m.at("cpu.float_double_outcome_differs") << " rays with another outcome"
+          << ", against half (mediump): " << m.at("cpu.float_half_outcome_differs") << ", t within "
+          << format_value(m.at("cpu.float_half_t_rel_max")) << " relative"
           << (m.at("driver.cpu_unfinished") > 0
                   ? "; " + format_value(m.at("driver.cpu_unfinished")) + " rays the CPU evaluator could not finish"
                   : "")

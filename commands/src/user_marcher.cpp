@@ -2,6 +2,7 @@
 
 #include "marchcheck/march/camera.hpp"
 #include "marchcheck/sdf/glsl_field.hpp"
+#include "marchcheck/sdf/half.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 
 #include <array>
@@ -28,21 +29,28 @@ double ulps_between(float a, float b) {
   return static_cast<double>(std::llabs(ordered(a) - ordered(b)));
 }
 
-// The same marcher on the driver and on the CPU (float, double): rays whose outcome (t short of the far distance
-// or not) differs, t's largest difference in ulps where both stop short, and rays the CPU's evaluator could not
-// finish.
-void driver_against_cpu(const sdf::Scene& scene, const gpu::UserMarch& driver, const std::vector<double>& cpu_float,
-                        const std::vector<double>& cpu_double, std::map<std::string, double>& m) {
+// The same marcher on the driver and on the CPU (float, double, and half: mediump): rays whose outcome (t short of
+// the far distance or not) differs, t's largest difference where both stop short (float's ulps; relative, for
+// half), and rays the CPU's evaluator could not finish.
+struct CpuMarches {
+  std::vector<double> in_float, in_double, in_half;
+};
+void driver_against_cpu(const sdf::Scene& scene, const gpu::UserMarch& driver, const CpuMarches& cpu,
+                        std::map<std::string, double>& m) {
   const auto hit = [&](double t) { return t < scene.march.max_dist; };
-  double differs = 0, double_differs = 0, ulps = 0, unfinished = 0;
+  double differs = 0, double_differs = 0, half_differs = 0, ulps = 0, half_relative = 0, unfinished = 0;
   for (std::size_t i = 0; i < driver.rays.size(); ++i) {
     const double t = driver.rays[i].t;
-    if (std::isnan(cpu_float[i]) || std::isnan(cpu_double[i])) {
+    const std::vector<double>& cpu_float = cpu.in_float;
+    if (std::isnan(cpu_float[i]) || std::isnan(cpu.in_double[i]) || std::isnan(cpu.in_half[i])) {
       ++unfinished;
       continue;
     }
     differs += hit(t) != hit(cpu_float[i]);
-    double_differs += hit(cpu_float[i]) != hit(cpu_double[i]);
+    double_differs += hit(cpu_float[i]) != hit(cpu.in_double[i]);
+    half_differs += hit(cpu_float[i]) != hit(cpu.in_half[i]);
+    if (hit(cpu_float[i]) && hit(cpu.in_half[i]) && cpu_float[i] > 0)
+      half_relative = std::max(half_relative, std::abs(cpu.in_half[i] - cpu_float[i]) / cpu_float[i]);
     if (hit(t) && hit(cpu_float[i]))
       ulps = std::max(ulps, ulps_between(static_cast<float>(t), static_cast<float>(cpu_float[i])));
   }
@@ -50,6 +58,8 @@ void driver_against_cpu(const sdf::Scene& scene, const gpu::UserMarch& driver, c
   m["driver.t_ulps_max"] = ulps;
   m["driver.cpu_unfinished"] = unfinished;
   m["cpu.float_double_outcome_differs"] = double_differs;
+  m["cpu.float_half_outcome_differs"] = half_differs;
+  m["cpu.float_half_t_rel_max"] = half_relative;
 }
 
 }  // namespace
@@ -110,8 +120,9 @@ validation::SceneResult judge_user_marcher(const sdf::Scene& scene, const UserSh
   subject.stops_either_side = true;  // |f| < SURF_DIST, as tutorials write the test; f < eps stops anywhere inside
   validation::SceneResult result = validation::validate_subject(scene, subject, options);
   driver_against_cpu(scene, marched,
-                     gpu::march_on_cpu<float>(shader.text, shader.path, marcher, shader.uniforms, rays),
-                     gpu::march_on_cpu<double>(shader.text, shader.path, marcher, shader.uniforms, rays),
+                     {gpu::march_on_cpu<float>(shader.text, shader.path, marcher, shader.uniforms, rays),
+                      gpu::march_on_cpu<double>(shader.text, shader.path, marcher, shader.uniforms, rays),
+                      gpu::march_on_cpu<sdf::Half>(shader.text, shader.path, marcher, shader.uniforms, rays)},
                      result.metrics);
   result.scene += " (marcher " + marcher.march + " on the GL driver)";
   return result;

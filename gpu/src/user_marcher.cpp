@@ -2,6 +2,7 @@
 #include "marchcheck/gpu/user_marcher.hpp"
 
 #include "marchcheck/sdf/glsl_field.hpp"
+#include "marchcheck/sdf/half.hpp"
 
 #include <array>
 #include <memory>
@@ -122,6 +123,9 @@ std::vector<double> march_on_cpu(const std::string& text, const std::string& fil
 template std::vector<double> march_on_cpu<float>(const std::string&, const std::string&, const UserMarcher&,
                                                  const std::map<std::string, std::vector<double>>&,
                                                  const std::vector<std::pair<glm::dvec3, glm::dvec3>>&);
+template std::vector<double> march_on_cpu<sdf::Half>(const std::string&, const std::string&, const UserMarcher&,
+                                                     const std::map<std::string, std::vector<double>>&,
+                                                     const std::vector<std::pair<glm::dvec3, glm::dvec3>>&);
 template std::vector<double> march_on_cpu<double>(const std::string&, const std::string&, const UserMarcher&,
                                                   const std::map<std::string, std::vector<double>>&,
                                                   const std::vector<std::pair<glm::dvec3, glm::dvec3>>&);

@@ -421,6 +421,14 @@ TEST_F(Cli, AUserMarcherOnTheDriverPassesAndEachKnownBugIsCaught) {
     EXPECT_NE(r.output.find("driver against CPU (the same marcher, float): 0 rays with another outcome"),
               std::string::npos)
         << r.output;
+    // The marcher in binary16 (mediump) on the CPU: t moves by more than half's unit roundoff, 2^-11 (a run left
+    // in float moves it by 0: commands-user-half-as-float), and by less than 10%.
+    const std::string half = "against half (mediump): ";
+    const size_t at = r.output.find(half);
+    ASSERT_NE(at, std::string::npos) << r.output;
+    const double relative = std::atof(r.output.c_str() + r.output.find("t within ", at) + 9);
+    EXPECT_GT(relative, 0x1p-11) << r.output;
+    EXPECT_LT(relative, 0.1) << r.output;
   }
 }
 

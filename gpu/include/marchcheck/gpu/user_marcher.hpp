@@ -42,7 +42,8 @@ UserMarch march_on_driver(const std::string& text, const std::string& file, cons
                           const std::vector<std::pair<glm::dvec3, glm::dvec3>>& rays, double seconds_limit = 60);
 
 // The same marcher for the same rays on the CPU, by marchcheck's evaluator of the source's SPIR-V, in float (as
-// IEEE computes it: what the driver should match) or double: each ray's t, NaN where the evaluator's bound on
+// IEEE computes it: what the driver should match), double, or sdf::Half (binary16: GLSL mediump on mobile GPUs):
+// each ray's t, NaN where the evaluator's bound on
 // instructions ended it (GlslField::kMaxSteps).
 template <class T>
 std::vector<double> march_on_cpu(const std::string& text, const std::string& file, const UserMarcher& marcher,
