@@ -368,7 +368,7 @@ json parse_setting_value(std::string_view text) {
 
 // ---------------------------------------------------------------- nodes
 
-void glsl_to_json(const GlslSpec& spec, json& j) {
+void glsl_to_json(const GlslSpec& spec, json& j, const Scene& scene) {
   if (spec.code.empty()) {
     j["source"] = spec.source;
   } else {
@@ -381,6 +381,11 @@ void glsl_to_json(const GlslSpec& spec, json& j) {
     j["uniforms"] = u;
   }
   if (spec.half) j["precision"] = "half";
+  if (!spec.materials.empty()) {
+    json names = json::array();
+    for (const int m : spec.materials) names.push_back(scene.materials.at(static_cast<size_t>(m)).name);
+    j["materials"] = names;
+  }
   j["kind"] = spec.measured ? "unknown" : std::string(to_string(spec.kind));
   if (!spec.measured && spec.kind == Kind::lipschitz) j["lipschitz"] = spec.lipschitz;
 }
@@ -398,7 +403,7 @@ json node_to_json(const Node& n, const Scene& scene) {
     }
   }
   if (n.op == Op::mesh) j["mesh"] = n.source;
-  if (n.op == Op::glsl) glsl_to_json(n.glsl->spec(), j);
+  if (n.op == Op::glsl) glsl_to_json(n.glsl->spec(), j, scene);
   if (n.material >= 0) j["material"] = scene.materials.at(static_cast<size_t>(n.material)).name;
   if (info.max_children == 1) {
     j["child"] = node_to_json(n.children[0], scene);
@@ -419,9 +424,9 @@ std::string resolve_mesh_source(const std::string& source, const std::string& sc
 }
 
 // A glsl node's field: its source file (beside the scene file) or inline code, compiled here.
-std::shared_ptr<const GlslField> glsl_from_json(const json& j, const std::string& path, const std::string& scene_path,
-                                                std::vector<std::string>& allowed) {
-  for (const char* key : {"source", "code", "function", "uniforms", "kind", "lipschitz", "precision"})
+std::shared_ptr<const GlslField> glsl_from_json(const json& j, const std::string& path, const Scene& scene,
+                                                const std::string& scene_path, std::vector<std::string>& allowed) {
+  for (const char* key : {"source", "code", "function", "uniforms", "kind", "lipschitz", "precision", "materials"})
     allowed.push_back(key);
   GlslSpec spec;
   if (j.contains("source") == j.contains("code"))
@@ -460,6 +465,16 @@ std::shared_ptr<const GlslField> glsl_from_json(const json& j, const std::string
     if (!j["precision"].is_string() || (j["precision"] != "float" && j["precision"] != "half"))
       fail(path + "/precision", "expected float or half (GLSL's mediump, in IEEE binary16)");
     spec.half = j["precision"] == "half";
+  }
+  if (j.contains("materials")) {
+    if (!j["materials"].is_array()) fail(path + "/materials", "expected the names of the materials .y = 0, 1, ... selects");
+    for (size_t i = 0; i < j["materials"].size(); ++i) {
+      const std::string where = path + "/materials/" + std::to_string(i);
+      const json& name = j["materials"][i];
+      const int m = name.is_string() ? find_material(scene, name.get<std::string>()) : -1;
+      if (m < 0) fail(where, "expected the name of one of the scene's materials");
+      spec.materials.push_back(m);
+    }
   }
   const std::string kind = j.contains("kind") && j["kind"].is_string() ? j["kind"].get<std::string>()
                            : j.contains("lipschitz")                   ? "lipschitz"
@@ -530,7 +545,7 @@ Node node_from_json(const json& j, const std::string& path, const Scene& scene, 
   }
   if (n.op == Op::glsl) {
     if (!external) fail(path, "a GLSL field is not compiled here (no loader: meshes and GLSL are off)");
-    n.glsl = glsl_from_json(j, path, scene_path, allowed);
+    n.glsl = glsl_from_json(j, path, scene, scene_path, allowed);
   }
   if (j.contains("material")) {
     if (!j["material"].is_string()) fail(path + "/material", "expected a material name");

@@ -207,6 +207,36 @@ TEST(Glsl, WholePastedShadersImportTheirMap) {
             std::string::npos);
 }
 
+// A vec2 result's .y selects the scene's materials by the node's list: 0 the first, 1 the second; any other .y keeps
+// the node's own, in the one-point and the batched tape alike, and the scene file round-trips the list. Broken
+// variant: .y ignored (glsl-material-ignored).
+TEST(Glsl, AResultsYSelectsTheNodesMaterials) {
+  const std::string text = R"({"materials": [{"name": "own"}, {"name": "red"}, {"name": "blue"}],
+    "sdf": {"type": "glsl", "kind": "exact", "material": "own", "materials": ["red", "blue"],
+            "code": "vec2 map(vec3 p) { return vec2(length(p) - 1.0, p.x < 0.0 ? 0.0 : (p.x < 2.0 ? 1.0 : 7.0)); }"}})";
+  for (const Scene& scene : {scene_from_json(text, "m.json"), scene_from_json(scene_to_json(scene_from_json(text, "m.json")), "m.json")}) {
+    const Tape tape = compile(scene.root);
+    const glm::vec3 at[] = {{-1, 0, 0}, {1, 0, 0}, {3, 0, 0}};
+    const int want[] = {1, 2, 0};  // red, blue, and the node's own for .y = 7
+    float xs[3], ys[3], zs[3], values[3];
+    int batched[3];
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ(sample(tape, at[i]).material, want[i]) << i;
+      xs[i] = at[i].x, ys[i] = at[i].y, zs[i] = at[i].z;
+    }
+    sample_batch(tape, xs, ys, zs, values, batched, 3);
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(batched[i], want[i]) << i;
+  }
+  std::string unknown = text;
+  unknown.replace(unknown.find("\"blue\"]"), 6, "\"green\"");
+  try {
+    scene_from_json(unknown, "m.json");
+    FAIL() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()), "m.json: /sdf/materials/1: expected the name of one of the scene's materials");
+  }
+}
+
 // Without a loader (the scene fuzzer's case) nothing external runs: no file read, no GLSL compiled.
 TEST(Glsl, WithoutALoaderAGlslNodeIsRefused) {
   try {

@@ -164,12 +164,12 @@ std::vector<std::uint32_t> compile_field(const std::string& source, const std::s
   const GlslEntry entry{"",
                         "layout(location = 0) in vec3 marchcheck_p;\n"
                         "layout(location = 0) out vec4 marchcheck_result;\n"
-                        "float marchcheck_distance(float d) { return d; }\n"
-                        "float marchcheck_distance(vec2 d) { return d.x; }\n"
-                        "float marchcheck_distance(vec3 d) { return d.x; }\n"
-                        "float marchcheck_distance(vec4 d) { return d.x; }\n"
-                        "void main() { marchcheck_result = vec4(marchcheck_distance(" +
-                            function + "(marchcheck_p))); }\n",
+                        // The distance in .x, the material in .y (-1: none).
+                        "vec4 marchcheck_pack(float d) { return vec4(d, -1.0, 0.0, 0.0); }\n"
+                        "vec4 marchcheck_pack(vec2 d) { return vec4(d, 0.0, 0.0); }\n"
+                        "vec4 marchcheck_pack(vec3 d) { return vec4(d, 0.0); }\n"
+                        "vec4 marchcheck_pack(vec4 d) { return d; }\n"
+                        "void main() { marchcheck_result = marchcheck_pack(" + function + "(marchcheck_p)); }\n",
                         false, "no function " + function + "(vec3) returning float, vec2, vec3 or vec4"};
   Parsed p = parsed(source, file, entry);
   glslang::TProgram program;

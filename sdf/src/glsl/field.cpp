@@ -305,7 +305,7 @@ class Evaluator {
           jump(block, target, pc);
           break;
         }
-        case Code::ret: return f_[p_.output];
+        case Code::ret: return f_[p_.output];  // and .y after it, material()'s
         case Code::kill: return constant<T>(std::numeric_limits<double>::quiet_NaN());
         default: execute(in); break;
       }
@@ -540,6 +540,15 @@ T GlslField::distance(glm::vec<3, T> p) const {
     if (spec_.half) return distance(glm::vec<3, Half>(Half(p.x), Half(p.y), Half(p.z)));
   glsl::Frame<T>& frame = glsl::frame_for<T>(*program_);
   return glsl::Evaluator<T>(*program_, frame).run(p);
+}
+
+int GlslField::material(glm::dvec3 p) const {
+  if (spec_.materials.empty()) return -1;
+  glsl::Frame<double>& frame = glsl::frame_for<double>(*program_);
+  glsl::Evaluator<double>(*program_, frame).run(p);
+  const double y = frame.f[program_->output + 1];
+  if (!(y > -0.5 && y < static_cast<double>(spec_.materials.size()) - 0.5)) return -1;
+  return spec_.materials[static_cast<std::size_t>(std::lround(y))];
 }
 
 GlslField GlslField::with_half(bool half) const {

@@ -36,6 +36,9 @@ struct GlslSpec {
   // GLSL's mediump as mobile GPUs run it: the float evaluations computed in IEEE binary16 (half.hpp) instead;
   // double and dual numbers stay as they are. A node's "precision": "half", or --set precision=half.
   bool half = false;
+  // The scene's materials (indices) that a vec2, vec3 or vec4 result's .y selects: .y rounded, 0 the first; any
+  // other .y, or a float result, keeps the node's own. A node's "materials": [names].
+  std::vector<int> materials;
 };
 
 namespace glsl {
@@ -58,6 +61,9 @@ class GlslField {
   T distance(glm::vec<3, T> p) const;
 
   static constexpr std::uint64_t kMaxSteps = 1'000'000;
+
+  // The scene material the result's .y selects at p (GlslSpec::materials, evaluated in double), or -1.
+  int material(glm::dvec3 p) const;
 
  private:
   bool finishes_at_origin() const;

@@ -70,6 +70,13 @@ namespace detail {
 
 using smath::vec3;
 
+// A GLSL field's own material, where its result's .y selects one (GlslSpec::materials).
+template <class T>
+inline void glsl_material(const kernels::Args<T>& k, vec3<T> p, int& material) {
+  const int m = k.glsl_fields[k.at]->material(glm::dvec3(value_of(p.x), value_of(p.y), value_of(p.z)));
+  if (m >= 0) material = m;
+}
+
 // One instruction on the stacks (vt, pt: the top value and point), by its kernel's shape.
 template <auto Kernel, class T, bool WithMaterial>
 MARCHCHECK_KERNEL void source(const kernels::Args<T>& k, const Instr& in, T* values, int* materials, int& vt,
@@ -77,6 +84,7 @@ MARCHCHECK_KERNEL void source(const kernels::Args<T>& k, const Instr& in, T* val
                    int& pt) {
   values[++vt] = Kernel(k, points[pt]);
   if constexpr (WithMaterial) materials[vt] = in.material;
+  if constexpr (WithMaterial && Kernel == &kernels::glsl<T>) glsl_material(k, points[pt], materials[vt]);
 }
 template <auto Kernel, class T, bool WithMaterial>
 MARCHCHECK_KERNEL void value(const kernels::Args<T>& k, const Instr&, T* values, int*, int& vt, vec3<T>* points,
