@@ -511,12 +511,17 @@ std::string hit_eps_code(const Scene& s) {
   return "float hitEps(float t) { return " + eps + "; }\n";
 }
 
+// How far a step goes per unit of f (march::step_per_unit_f): step_scale, over the declared L for the scaled
+// marcher. Marches and soft shadows step by it.
+double step_per_unit_f(const Scene& s) {
+  const MarchSettings& m = s.march;
+  return m.marcher == Marcher::scaled ? m.step_scale / derive_info(s.root, s.time).lipschitz : m.step_scale;
+}
+
 // The scene's marcher as march::march runs it, outcome for outcome: sphere tracing in steps of f (scaled: f / L,
 // relaxed: over-relaxed with Keinert et al.'s fallback), or fixed steps with bisection of the crossing.
 std::string marcher_code(const Scene& s) {
   const MarchSettings& m = s.march;
-  const FieldInfo info = derive_info(s.root, s.time);
-  const double per_unit = (m.marcher == Marcher::scaled ? m.step_scale / info.lipschitz : m.step_scale);
   std::ostringstream out;
   out << "// outcome: 0 hit, 1 past maxDist, 2 out of steps, 3 started inside, 4 not finite; minAbsF: smallest |f|.\n"
       << "struct March { float t; int steps; float minAbsF; int outcome; };\n"
@@ -543,7 +548,7 @@ std::string marcher_code(const Scene& s) {
     return out.str();
   }
   out << "  float t = 0.0, omega = " << literal(m.marcher == Marcher::relaxed ? float(m.relaxation) : 1.0f)
-      << ", prevT = 0.0, prevF = 0.0, prevStep = 0.0;\n  const float scale = " << literal(float(per_unit)) << ";\n"
+      << ", prevT = 0.0, prevF = 0.0, prevStep = 0.0;\n  const float scale = " << literal(float(step_per_unit_f(s))) << ";\n"
       << "  while (r.steps < MAX_STEPS) {\n    float v = probe(r, ro, rd, t, side), eps = hitEps(t);\n"
       << "    if (isnan(v) || isinf(v)) { r.outcome = 4; return r; }\n"
       << "    if (r.steps == 1 && v < -eps) { r.outcome = 3; return r; }\n"
@@ -619,8 +624,6 @@ std::string shadow_code(const Light& light) {
 }
 
 std::string shadow_functions(const Scene& s) {
-  const FieldInfo info = derive_info(s.root, s.time);
-  const double per_unit = (s.march.marcher == Marcher::scaled ? s.march.step_scale / info.lipschitz : s.march.step_scale);
   std::ostringstream out;
   out << "// bias: 0 lifted by bias hit thresholds, 1 lifted by one and hits nearer than bias thresholds ignored,\n"
       << "// 2 above the threshold and the rounding of |p| and t; improved: 0 for Quilez's classic penumbra.\n"
@@ -638,7 +641,7 @@ std::string shadow_functions(const Scene& s) {
       << "    if (improved == 0 || i == 0) {\n      res = min(res, penumbra * h / max(s, eps));\n    } else {\n"
       << "      float y = h * h / (2.0 * prevH), d = sqrt(max(h * h - y * y, 0.0));\n"
       << "      res = min(res, penumbra * d / max(0.0, s - y));\n    }\n"
-      << "    prevH = h;\n    s += h * " << literal(float(per_unit)) << ";\n  }\n  return clamp(res, 0.0, 1.0);\n}\n";
+      << "    prevH = h;\n    s += h * " << literal(float(step_per_unit_f(s))) << ";\n  }\n  return clamp(res, 0.0, 1.0);\n}\n";
   return out.str();
 }
 
