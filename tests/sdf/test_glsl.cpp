@@ -104,7 +104,10 @@ TEST(Glsl, HalfRoundsAsIeeeBinary16) {
   EXPECT_EQ(float(Half(1.0) + Half(0x1p-11)), 1.0f);  // the tie goes to 1's even significand
   EXPECT_EQ(float(Half(1.0) + Half(0x1p-10)), 1.0f + 0x1p-10f);
   EXPECT_EQ(float(Half(0.1)), 0.0999755859375f);
-  EXPECT_TRUE(std::isinf(float(Half(65504.0) + Half(16.0))));
+  EXPECT_EQ(float(Half(65504.0) + Half(15.0)), 65504.0f);   // below the midpoint 65520
+  EXPECT_TRUE(std::isinf(float(Half(65504.0) + Half(16.0))));  // at it: ties to even, past the largest
+  EXPECT_TRUE(std::isinf(float(Half(-1e30))) && float(Half(-1e30)) < 0);
+  EXPECT_TRUE(std::isnan(float(Half(std::nan("")))));
   EXPECT_EQ(float(Half(0x1p-24) * Half(0.25)), 0.0f);
   EXPECT_EQ(float(Half(3.0) / 7), float(Half(3.0f / 7.0f)));  // a number operand rounded first, then the quotient
 }

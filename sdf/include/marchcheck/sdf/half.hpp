@@ -9,11 +9,19 @@
 
 namespace marchcheck::sdf {
 
+// x rounded to binary16: past +-65520 (the midpoint above the largest, 65504, which rounds up: ties to even) to
+// infinity, as IEEE rounds; converting there would be undefined in C++.
+template <class F>
+constexpr float round_to_half(F x) {
+  if (x < F(65520) && x > F(-65520)) return static_cast<float>(static_cast<_Float16>(x));
+  return x != x ? static_cast<float>(x) : x > 0 ? __builtin_inff() : -__builtin_inff();
+}
+
 struct Half {
   float v = 0;
   Half() = default;
-  constexpr Half(double x) : v(static_cast<float>(static_cast<_Float16>(x))) {}  // NOLINT: rounds, as a store does
-  constexpr Half(float x) : v(static_cast<float>(static_cast<_Float16>(x))) {}   // NOLINT
+  constexpr Half(double x) : v(round_to_half(x)) {}  // NOLINT: rounds, as a store does
+  constexpr Half(float x) : v(round_to_half(x)) {}   // NOLINT
   constexpr Half(int x) : Half(static_cast<double>(x)) {}                        // NOLINT
   constexpr operator float() const { return v; }                                 // NOLINT: reads are exact
   Half& operator+=(Half b) { return *this = Half(v + b.v); }
