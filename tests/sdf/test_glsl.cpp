@@ -112,6 +112,27 @@ TEST(Glsl, HalfRoundsAsIeeeBinary16) {
   EXPECT_EQ(float(Half(3.0) / 7), float(Half(3.0f / 7.0f)));  // a number operand rounded first, then the quotient
 }
 
+// round_to_half against GCC's own conversion to _Float16, for floats and doubles of every binade binary16 spans
+// (subnormals included) and the ties between neighbours (x.5 ulp, both parities), on both signs.
+TEST(Glsl, HalfRoundingIsGccsFloat16Conversion) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> significand(1, 2);
+  int compared = 0;
+  for (int binade = -26; binade <= 15; ++binade)
+    for (int i = 0; i < 2000; ++i) {
+      const double ulp = std::ldexp(1.0, std::max(binade, -14) - 10);
+      double x = std::ldexp(significand(rng), binade);
+      if (i % 4 == 0) x = (std::floor(x / ulp) + 0.5) * ulp;  // a tie
+      if (i % 2) x = -x;
+      if (!(std::abs(x) < 65520)) continue;
+      const float f = static_cast<float>(x);
+      EXPECT_EQ(round_to_half(f), static_cast<float>(static_cast<_Float16>(f))) << f;
+      EXPECT_EQ(round_to_half(x), static_cast<float>(static_cast<_Float16>(x))) << x;
+      ++compared;
+    }
+  EXPECT_GT(compared, 80000);
+}
+
 // A GLSL field with precision half computes every operation in binary16: length(p) - 1 at p worked by hand, each
 // step rounded (r). The same field in float differs.
 TEST(Glsl, AHalfFieldRoundsEveryOperation) {
