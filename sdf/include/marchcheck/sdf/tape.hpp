@@ -84,7 +84,8 @@ MARCHCHECK_KERNEL void source(const kernels::Args<T>& k, const Instr& in, T* val
                    int& pt) {
   values[++vt] = Kernel(k, points[pt]);
   if constexpr (WithMaterial) materials[vt] = in.material;
-  if constexpr (WithMaterial && Kernel == &kernels::glsl<T>) glsl_material(k, points[pt], materials[vt]);
+  if constexpr (WithMaterial)
+    if (in.op == TapeOp::glsl) glsl_material(k, points[pt], materials[vt]);
 }
 template <auto Kernel, class T, bool WithMaterial>
 MARCHCHECK_KERNEL void value(const kernels::Args<T>& k, const Instr&, T* values, int*, int& vt, vec3<T>* points,
