@@ -6,15 +6,20 @@
 // bottom, a light without its colour, each effect dropped or computed otherwise).
 #include "marchcheck/gpu/user_marcher.hpp"
 #include "marchcheck/march/render.hpp"
-#include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/march/texture.hpp"
+#include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/glsl_export.hpp"
 #include "marchcheck/sdf/glsl_field.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <random>
 
 namespace marchcheck {
@@ -129,6 +134,34 @@ TEST(ExportRender, EverySettingTheExportWritesRendersAsTheRenderer) {
     EXPECT_LE(over[0], kValidateFraction) << label;
     EXPECT_LE(over[1], kLevelFraction) << label;
   }
+}
+
+// Shadertoy compiles a shader as GLSL ES 3.00 (WebGL 2) around its own main: every export passes Khronos'
+// reference compiler in that dialect (glslangValidator, from glslang-tools), not only the driver's GLSL 4.50.
+// Broken variant: an int literal where ES needs a uint, which 4.50 converts and ES refuses (sdf-export-es-int-mask).
+TEST(ExportRender, EveryExportCompilesAsShadertoysGlslEs300) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("marchcheck_es_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  int compiled = 0;
+  for (const std::string& name : sdf::builtin_scene_names()) {
+    std::string shader;
+    try {
+      shader = sdf::shadertoy_shader(sdf::builtin_scene(name));
+    } catch (const sdf::SceneError&) {
+      continue;  // a mesh too large to export
+    }
+    const std::filesystem::path file = dir / (name + ".frag"), log = dir / (name + ".log");
+    std::ofstream(file) << "#version 300 es\nprecision highp float;\nprecision highp int;\nuniform vec3 iResolution;\n"
+                           "uniform float iTime;\nuniform vec4 iMouse;\nuniform int iFrame;\nout vec4 shadertoy_out;\n"
+                        << shader << "\nvoid main() { mainImage(shadertoy_out, gl_FragCoord.xy); }\n";
+    const int status = std::system(("glslangValidator " + file.string() + " > " + log.string() + " 2>&1").c_str());
+    std::ifstream in(log);
+    EXPECT_EQ(status, 0) << name << ":\n" << std::string(std::istreambuf_iterator<char>(in), {});
+    ++compiled;
+  }
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(compiled, 28);
 }
 
 // The export's soil texture, run by marchcheck's GLSL evaluator (no driver needed), against the renderer's own
