@@ -212,6 +212,10 @@ int validate_user_marcher(const ValidateCommand& cmd, std::ostream& out, std::os
       const UserShader shader = read_user_shader(path);
       sdf::Scene scene = user_marcher_scene(shader, marcher);
       apply_sets(scene, cmd.sets);
+      // The driver runs the marcher in float whatever the scene says; its binary16 run is the CPU's, under the table.
+      if (scene.root.glsl && scene.root.glsl->spec().half)
+        throw sdf::SceneError(path + ": --march judges the GL driver's run, in float; the marcher in half (mediump) "
+                                     "is run on the CPU and compared under the table");
       sdf::compile(scene.root, scene.time);
       results.push_back(judge_user_marcher(scene, shader, marcher, renderer));
       validation::print_checks(results.back(), out);

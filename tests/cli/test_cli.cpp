@@ -359,6 +359,8 @@ TEST_F(Cli, HalfPrecisionModelsMediumpAndItsNormalsFail) {
   EXPECT_GT(std::atof(normals.c_str() + normals.find_first_of("0123456789")), 5) << normals;
   for (const char* check : {"hit.false_hit", "hit.false_miss", "hit.overshoot"})
     EXPECT_NE(check_line(r.output, check).find("pass"), std::string::npos) << check << "\n" << r.output;
+  expect_bad_input("validate " + std::string(MARCHCHECK_TEST_DATA) + "/glsl/user_marcher.glsl --march rayMarch "
+                   "--set precision=half", "--march judges the GL driver's run, in float; the marcher in half");
   expect_bad_input("validate lee-flat --set precision=half",
                    "--set precision=half: half models GLSL's mediump, for GLSL fields; lee-flat has none");
   expect_bad_input("validate " + file + " --set precision=quad", "--set precision=quad: expected float, double or half");
