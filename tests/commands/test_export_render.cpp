@@ -56,7 +56,8 @@ constexpr float kValidateLevel = 0.1f;      // image.pixels_over's channel diffe
 constexpr double kValidateFraction = 0.02;  // and its default limit
 // One 8-bit level and a half: the export computes what the renderer computes in float, operation for operation,
 // but for the driver's own dot, normalize, cross and pow; on these smooth scenes at most one pixel of 14 400
-// differs by more (measured), so 0.1% is the limit.
+// differs by more on llvmpipe (measured), so 0.1% is the limit there. A GPU's transcendentals are its own: there
+// validate's rule alone holds.
 constexpr float kLevel = 1.5f / 255;
 constexpr double kLevelFraction = 0.001;
 
@@ -94,6 +95,7 @@ TEST(ExportRender, EveryBuiltinsExportRendersOnTheDriverWithinTheImageTolerance)
 TEST(ExportRender, EverySettingTheExportWritesRendersAsTheRenderer) {
   skip_without_driver();
   if (IsSkipped()) return;
+  const bool llvmpipe = gpu::driver_renderer().find("llvmpipe") != std::string::npos;
   struct Variant {
     const char* scene;
     std::vector<std::pair<const char*, const char*>> settings;
@@ -132,7 +134,9 @@ TEST(ExportRender, EverySettingTheExportWritesRendersAsTheRenderer) {
     const std::vector<double> over = pixels_over(sdf::scaled_to_width(scene, 160), {kValidateLevel, kLevel});
     RecordProperty(label, std::to_string(over[1]));
     EXPECT_LE(over[0], kValidateFraction) << label;
-    EXPECT_LE(over[1], kLevelFraction) << label;
+    if (llvmpipe) {
+      EXPECT_LE(over[1], kLevelFraction) << label;
+    }
   }
 }
 
