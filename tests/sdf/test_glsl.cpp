@@ -261,6 +261,18 @@ TEST(Glsl, AResultsYSelectsTheNodesMaterials) {
   }
 }
 
+// A GLSL file alone colours its material ids: .y = 0 to 7 picks the scene's materials y0 to y7; a float result, or
+// a .y past them, keeps no material (the renderer's grey).
+TEST(Glsl, AFileAlonePicksMaterialsByItsY) {
+  const Scene ids = glsl_scene("ids.glsl", {}, "vec2 map(vec3 p) { return vec2(length(p) - 1.0, p.x < 0.0 ? 1.0 : 9.0); }");
+  const Tape tape = compile(ids.root);
+  ASSERT_EQ(ids.materials.size(), 8u);
+  EXPECT_EQ(ids.materials[static_cast<size_t>(sample(tape, glm::vec3(-1, 0, 0)).material)].name, "y1");
+  EXPECT_EQ(sample(tape, glm::vec3(1, 0, 0)).material, -1);
+  const Scene plain = glsl_scene("plain.glsl", {}, "float map(vec3 p) { return length(p) - 1.0; }");
+  EXPECT_EQ(sample(compile(plain.root), glm::vec3(-1, 0, 0)).material, -1);
+}
+
 // Without a loader (the scene fuzzer's case) nothing external runs: no file read, no GLSL compiled.
 TEST(Glsl, WithoutALoaderAGlslNodeIsRefused) {
   try {

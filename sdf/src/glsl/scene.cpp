@@ -96,6 +96,16 @@ Scene glsl_scene(const std::string& path, GlslSpec spec, const std::string& text
   spec.source = std::filesystem::absolute(path).lexically_normal().string();
   Scene s;
   s.name = std::filesystem::path(path).stem().string();
+  // A result's .y = 0 to 7 colours the surface (materials y0 to y7), as a shader's own material ids would; the
+  // shader's own list, where its spec has one, stands.
+  if (spec.materials.empty()) {
+    const glm::dvec3 palette[] = {{0.8, 0.8, 0.8}, {0.85, 0.35, 0.25}, {0.3, 0.55, 0.85}, {0.35, 0.7, 0.35},
+                                  {0.9, 0.75, 0.3}, {0.6, 0.4, 0.75}, {0.3, 0.75, 0.75}, {0.75, 0.5, 0.35}};
+    for (int k = 0; k < 8; ++k) {
+      s.materials.push_back({"y" + std::to_string(k), palette[k]});
+      spec.materials.push_back(k);
+    }
+  }
   s.root = make(Op::glsl);
   s.root.glsl = std::make_shared<const GlslField>(spec, text, path);
   s.root.source = spec.source;
@@ -118,7 +128,8 @@ Scene glsl_scene(const std::string& path, GlslSpec spec, const std::string& text
   std::ostringstream about;
   about << "GLSL field " << function << " of " << path << "; camera framing the region where it is negative, ["
         << region->lo.x << ", " << region->hi.x << "] x [" << region->lo.y << ", " << region->hi.y << "] x ["
-        << region->lo.z << ", " << region->hi.z << "], found by sampling (override with --set camera.*); " << limits;
+        << region->lo.z << ", " << region->hi.z << "], found by sampling (override with --set camera.*); .y = 0 to 7 "
+        << "picks materials y0 to y7; " << limits;
   s.description = about.str();
   return s;
 }

@@ -95,8 +95,8 @@ std::string run_first_in(const std::string& source, const std::string& file, con
 // step limit, far distance and hit threshold the shader names for its own marcher (MAX_STEPS, MAX_DIST,
 // SURF_DIST or their common spellings; stated in the description, else marchcheck's defaults), a camera
 // framing the region where it is negative (found by sampling, stated in the description), a directional light
-// with hard shadows. Throws
-// GlslError or SceneError naming the file.
+// with hard shadows, and materials y0 to y7 that a result's .y = 0 to 7 picks (unless spec names its own).
+// Throws GlslError or SceneError naming the file.
 Scene glsl_scene(const std::string& path, const std::string& function = "map");
 // The same scene for the file's text as given (a sweep's overridden #defines) and the spec's function, uniforms
 // and kind (its source becomes the path).
