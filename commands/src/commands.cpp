@@ -82,14 +82,16 @@ sdf::Scene load_scene(const std::string& name_or_path, const std::vector<std::st
 std::vector<sdf::Scene> glsl_scenes(const std::string& path, const std::string& function,
                                     const std::vector<std::string>& sets) {
   const sdf::Scene base = sdf::glsl_scene(path, function);
-  const auto chosen = std::find_if(sets.begin(), sets.end(), [](const std::string& s) { return s.starts_with("precision="); });
+  constexpr std::string_view kPrecisionSet = "precision=";
+  const auto chosen =
+      std::find_if(sets.begin(), sets.end(), [&](const std::string& s) { return s.starts_with(kPrecisionSet); });
   std::vector<sdf::Scene> out;
   for (const char* precision : {"float", "double"}) {
     if (chosen != sets.end() && precision != std::string("float")) break;
     sdf::Scene s = base;
     sdf::apply_setting(s, "precision", precision);
     apply_sets(s, sets);
-    s.name += " (" + (chosen != sets.end() ? chosen->substr(10) : precision) + ")";
+    s.name += " (" + (chosen != sets.end() ? chosen->substr(kPrecisionSet.size()) : precision) + ")";
     sdf::compile(s.root, s.time);
     out.push_back(std::move(s));
   }

@@ -41,18 +41,18 @@ void driver_against_cpu(const sdf::Scene& scene, const gpu::UserMarch& driver, c
   double differs = 0, double_differs = 0, half_differs = 0, ulps = 0, half_relative = 0, unfinished = 0;
   for (std::size_t i = 0; i < driver.rays.size(); ++i) {
     const double t = driver.rays[i].t;
-    const std::vector<double>& cpu_float = cpu.in_float;
-    if (std::isnan(cpu_float[i]) || std::isnan(cpu.in_double[i]) || std::isnan(cpu.in_half[i])) {
+    const double in_float = cpu.in_float[i], in_double = cpu.in_double[i], in_half = cpu.in_half[i];
+    if (std::isnan(in_float) || std::isnan(in_double) || std::isnan(in_half)) {
       ++unfinished;
       continue;
     }
-    differs += hit(t) != hit(cpu_float[i]);
-    double_differs += hit(cpu_float[i]) != hit(cpu.in_double[i]);
-    half_differs += hit(cpu_float[i]) != hit(cpu.in_half[i]);
-    if (hit(cpu_float[i]) && hit(cpu.in_half[i]) && cpu_float[i] > 0)
-      half_relative = std::max(half_relative, std::abs(cpu.in_half[i] - cpu_float[i]) / cpu_float[i]);
-    if (hit(t) && hit(cpu_float[i]))
-      ulps = std::max(ulps, ulps_between(static_cast<float>(t), static_cast<float>(cpu_float[i])));
+    differs += hit(t) != hit(in_float);
+    double_differs += hit(in_float) != hit(in_double);
+    half_differs += hit(in_float) != hit(in_half);
+    if (hit(in_float) && hit(in_half) && in_float > 0)
+      half_relative = std::max(half_relative, std::abs(in_half - in_float) / in_float);
+    if (hit(t) && hit(in_float))
+      ulps = std::max(ulps, ulps_between(static_cast<float>(t), static_cast<float>(in_float)));
   }
   m["driver.outcome_differs"] = differs;
   m["driver.t_ulps_max"] = ulps;

@@ -145,12 +145,7 @@ glm::dvec3 material_color(const Context& ctx, int material, glm::dvec3 p, glm::d
   const auto& scene = ctx.scene;
   if (material < 0) return glm::dvec3(0.8);
   const auto& m = scene.materials[static_cast<size_t>(material)];
-  if (m.ramp_value >= 0 && !scene.effects.ramp.empty()) {
-    const auto& ramp = scene.effects.ramp;
-    const double x = m.ramp_value * static_cast<double>(ramp.size() - 1);
-    const size_t i = std::min(static_cast<size_t>(x), ramp.size() - 1), j = std::min(i + 1, ramp.size() - 1);
-    return glm::mix(ramp[i], ramp[j], x - static_cast<double>(i));
-  }
+  if (const auto ramped = sdf::ramp_color(scene, m)) return *ramped;
   if (m.texture == sdf::TextureMapping::none) return m.color;
   // Looked up just below the surface, as the seed does (p - n * SURF_DIST).
   const glm::dvec3 q = p - n * scene.march.hit_eps;

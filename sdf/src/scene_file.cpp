@@ -190,18 +190,18 @@ const std::vector<Field<Material>>& material_fields() {
   return table;
 }
 
-// The scene's GLSL fields, each given to f (a std::shared_ptr<const GlslField>&).
-template <class F>
-void each_glsl_field(Node& n, F&& f) {
+// The GLSL fields of a tree, each given to f (a std::shared_ptr<const GlslField>&, const where the tree is).
+template <class N, class F>
+void each_glsl_field(N& n, F&& f) {
   if (n.op == Op::glsl) f(n.glsl);
-  for (Node& c : n.children) each_glsl_field(c, f);
+  for (N& c : n.children) each_glsl_field(c, f);
 }
 
 // precision: the march's float or double; half (GLSL's mediump) is the march in float with the scene's GLSL fields
 // evaluated in binary16, and only a scene with a GLSL field has it.
 json precision_of(const Scene& s) {
   bool half = false;
-  each_glsl_field(const_cast<Node&>(s.root), [&](const auto& field) { half = half || field->spec().half; });
+  each_glsl_field(s.root, [&](const auto& field) { half = half || field->spec().half; });
   return half ? json("half") : json(enum_name(kPrecisions, s.march.precision));
 }
 
@@ -659,7 +659,7 @@ std::vector<std::string> declared_effects(const Scene& scene) {
     if (m.texture != TextureMapping::none) add("texture:" + enum_name(kTextures, m.texture));
     if (m.reflectivity > 0 && effects.max_bounces > 0) add("reflection");
     if (m.transparency > 0 && effects.max_bounces > 0) add("refraction");
-    if (m.ramp_value >= 0 && !effects.ramp.empty()) add("ramp");
+    if (ramp_color(scene, m)) add("ramp");
   }
   if (effects.ao != AmbientOcclusion::none) add("ao:" + enum_name(kAo, effects.ao));
   if (!scene.meshes.empty()) add("mesh-occlusion");
@@ -681,6 +681,14 @@ Scene scaled_to_width(const Scene& scene, int width) {
   if (small.camera.cx >= 0) small.camera.cx *= k;
   if (small.camera.cy >= 0) small.camera.cy *= k;
   return small;
+}
+
+std::optional<glm::dvec3> ramp_color(const Scene& scene, const Material& material) {
+  const auto& ramp = scene.effects.ramp;
+  if (material.ramp_value < 0 || ramp.empty()) return std::nullopt;
+  const double x = material.ramp_value * static_cast<double>(ramp.size() - 1);
+  const size_t i = std::min(static_cast<size_t>(x), ramp.size() - 1), j = std::min(i + 1, ramp.size() - 1);
+  return glm::mix(ramp[i], ramp[j], x - static_cast<double>(i));
 }
 
 int find_material(const Scene& scene, std::string_view name) {

@@ -48,11 +48,11 @@ MARCHCHECK_KERNEL void source(const kernels::Args<T>& k, const Instr& in, Lanes<
   const T* __restrict pz = l.pz();
   T* __restrict r = l.value(++l.vt);
   for (int i = 0; i < l.n; ++i) r[i] = Kernel(k, vec3<T>(px[i], py[i], pz[i]));
-  if constexpr (WithMaterial)
+  if constexpr (WithMaterial) {
     for (int i = 0; i < l.n; ++i) l.s.m[l.vt][i] = in.material;
-  if constexpr (WithMaterial)
     if (in.op == TapeOp::glsl)
       for (int i = 0; i < l.n; ++i) detail::glsl_material(k, vec3<T>(px[i], py[i], pz[i]), l.s.m[l.vt][i]);
+  }
 }
 
 template <auto Kernel, class T, bool WithMaterial>

@@ -700,37 +700,42 @@ std::string lighting_code(const Scene& s) {
   return out.str();
 }
 
-// The scene's materials by index: colour (or its ramp colour), specular model, strength and shininess.
+// A GLSL function of the material index m: `signature`'s value for each of the scene's materials, `otherwise` for
+// any other m (-1: none); `first`, a statement before them.
+template <class F>
+std::string per_material(const Scene& s, const std::string& signature, F value, const std::string& otherwise,
+                         const std::string& first = "") {
+  std::ostringstream out;
+  out << signature << " {\n" << first;
+  for (size_t i = 0; i < s.materials.size(); ++i)
+    out << "  if (m == " << i << ") return " << value(s.materials[i]) << ";\n";
+  out << "  return " << otherwise << ";\n}\n";
+  return out.str();
+}
+
+// The scene's materials by index: colour (its ramp colour, or its colour times its texture, looked up just below
+// the surface as the seed does: p - n * SURF_DIST), specular model, strength and shininess.
 std::string materials_code(const Scene& s) {
-  std::ostringstream color, model, strength, shininess;
-  for (size_t i = 0; i < s.materials.size(); ++i) {
-    const Material& m = s.materials[i];
-    glm::dvec3 c = m.color;
-    const bool ramped = m.ramp_value >= 0 && !s.effects.ramp.empty();  // the ramp's colour, untextured
-    if (ramped) {
-      const auto& ramp = s.effects.ramp;
-      const double x = m.ramp_value * static_cast<double>(ramp.size() - 1);
-      const size_t a = std::min(static_cast<size_t>(x), ramp.size() - 1), b = std::min(a + 1, ramp.size() - 1);
-      c = glm::mix(ramp[a], ramp[b], x - static_cast<double>(a));
-    }
-    // Textures are looked up just below the surface, as the seed does (p - n * SURF_DIST).
+  const auto color = [&](const Material& m) {
+    if (const auto ramped = ramp_color(s, m)) return vec3_literal(*ramped);
     const std::string scale = literal(float(m.texture_scale));
     std::string texture;
-    if (!ramped && m.texture == TextureMapping::planar) texture = " * mc_soil(q.x * " + scale + ", q.z * " + scale + ")";
-    if (!ramped && m.texture == TextureMapping::spherical)
+    if (m.texture == TextureMapping::planar) texture = " * mc_soil(q.x * " + scale + ", q.z * " + scale + ")";
+    if (m.texture == TextureMapping::spherical)
       texture = " * mc_soil((0.5 + atan(normalize(q).z, normalize(q).x) / 6.28318531) * " + scale +
                 ", (0.5 - asin(clamp(normalize(q).y, -1.0, 1.0)) / 3.14159265) * " + scale + ")";
-    color << "  if (m == " << i << ") return " << vec3_literal(c) << texture << ";\n";
-    model << "  if (m == " << i << ") return "
-          << (m.specular == SpecularModel::none ? 0 : m.specular == SpecularModel::phong ? 1 : 2) << ";\n";
-    strength << "  if (m == " << i << ") return " << literal(float(m.specular_strength)) << ";\n";
-    shininess << "  if (m == " << i << ") return " << literal(float(m.shininess)) << ";\n";
-  }
-  return "vec3 materialColor(int m, vec3 p, vec3 n) {\n  vec3 q = p - n * SURF_DIST;\n" + color.str() +
-         "  return vec3(0.8);\n}\n" +
-         "int materialSpecular(int m) {\n" + model.str() + "  return 0;\n}\n" +
-         "float materialStrength(int m) {\n" + strength.str() + "  return 0.0;\n}\n" +
-         "float materialShininess(int m) {\n" + shininess.str() + "  return 1.0;\n}\n";
+    return vec3_literal(m.color) + texture;
+  };
+  const auto model = [](const Material& m) {
+    return std::to_string(m.specular == SpecularModel::none ? 0 : m.specular == SpecularModel::phong ? 1 : 2);
+  };
+  const auto strength = [](const Material& m) { return literal(float(m.specular_strength)); };
+  const auto shininess = [](const Material& m) { return literal(float(m.shininess)); };
+  return per_material(s, "vec3 materialColor(int m, vec3 p, vec3 n)", color, "vec3(0.8)",
+                      "  vec3 q = p - n * SURF_DIST;\n") +
+         per_material(s, "int materialSpecular(int m)", model, "0") +
+         per_material(s, "float materialStrength(int m)", strength, "0.0") +
+         per_material(s, "float materialShininess(int m)", shininess, "1.0");
 }
 
 // Whether a material of the scene reflects or refracts secondary rays.
@@ -746,16 +751,13 @@ bool bounces(const Scene& s) {
 std::string bounce_code(const Scene& s) {
   if (!bounces(s)) return "";
   const int depth = s.effects.max_bounces;
-  std::ostringstream out, reflectivity, transparency, ior;
-  for (size_t i = 0; i < s.materials.size(); ++i) {
-    const Material& m = s.materials[i];
-    reflectivity << "  if (m == " << i << ") return " << literal(float(m.reflectivity)) << ";\n";
-    transparency << "  if (m == " << i << ") return " << literal(float(m.transparency)) << ";\n";
-    ior << "  if (m == " << i << ") return " << literal(float(m.ior)) << ";\n";
-  }
-  out << "float materialReflectivity(int m) {\n" << reflectivity.str() << "  return 0.0;\n}\n"
-      << "float materialTransparency(int m) {\n" << transparency.str() << "  return 0.0;\n}\n"
-      << "float materialIor(int m) {\n" << ior.str() << "  return 1.5;\n}\n"
+  std::ostringstream out;
+  const auto reflectivity = [](const Material& m) { return literal(float(m.reflectivity)); };
+  const auto transparency = [](const Material& m) { return literal(float(m.transparency)); };
+  const auto ior = [](const Material& m) { return literal(float(m.ior)); };
+  out << per_material(s, "float materialReflectivity(int m)", reflectivity, "0.0")
+      << per_material(s, "float materialTransparency(int m)", transparency, "0.0")
+      << per_material(s, "float materialIor(int m)", ior, "1.5")
       << "float schlick(float c, float n1, float n2) {\n  float r0 = (n1 - n2) / (n1 + n2), k = 1.0 - clamp(c, 0.0, 1.0);\n"
       << "  return r0 * r0 + (1.0 - r0 * r0) * k * k * k * k * k;\n}\n"
       << "// Into the solid at p and out again (bouncing inside at most 4 times): false when the ray stays in.\n"

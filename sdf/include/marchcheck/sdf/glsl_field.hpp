@@ -55,8 +55,9 @@ class GlslField {
   // SPIR-V instructions the evaluator runs per point, at most (loops aside).
   std::size_t instructions() const;
 
-  // The field at p. T: float (binary16 when spec().half), double, Dual<float>, Dual<double>, Half. A shader that runs past kMaxSteps instructions
-  // (a loop that does not end) or discards gives NaN; one that does so at the origin is refused when compiled.
+  // The field at p. T: float (binary16 when spec().half), double, Dual<float>, Dual<double>, Half. A shader that
+  // runs past kMaxSteps instructions (a loop that does not end) or discards gives NaN; one that does so at the
+  // origin is refused when compiled.
   template <class T>
   T distance(glm::vec<3, T> p) const;
 

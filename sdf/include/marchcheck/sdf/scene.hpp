@@ -174,6 +174,10 @@ std::vector<std::string> declared_effects(const Scene& scene);
 // Index of the named material; -1 when there is none.
 int find_material(const Scene& scene, std::string_view name);
 
+// The colour a material takes from the scene's ramp (at its ramp value, linearly between the ramp's colours), or
+// nothing when it takes none (no ramp value, or no ramp): then its own colour or texture.
+std::optional<glm::dvec3> ramp_color(const Scene& scene, const Material& material);
+
 // Applies one KEY=VALUE override (march parameters, time, width, height, camera.*). Throws SceneError
 // "KEY[=VALUE]: what was expected"; callers say which option it came from.
 void apply_setting(Scene& scene, std::string_view key, std::string_view value);

@@ -83,9 +83,10 @@ MARCHCHECK_KERNEL void source(const kernels::Args<T>& k, const Instr& in, T* val
                               vec3<T>* points,
                    int& pt) {
   values[++vt] = Kernel(k, points[pt]);
-  if constexpr (WithMaterial) materials[vt] = in.material;
-  if constexpr (WithMaterial)
+  if constexpr (WithMaterial) {
+    materials[vt] = in.material;
     if (in.op == TapeOp::glsl) glsl_material(k, points[pt], materials[vt]);
+  }
 }
 template <auto Kernel, class T, bool WithMaterial>
 MARCHCHECK_KERNEL void value(const kernels::Args<T>& k, const Instr&, T* values, int*, int& vt, vec3<T>* points,
