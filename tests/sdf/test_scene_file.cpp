@@ -58,6 +58,24 @@ std::string error_of(const std::string& text) {
   return "(no error)";
 }
 
+// A ramp colour lies between the two ramp colours its value falls between: 0.75 of a three-colour ramp is half way
+// from the second to the third; 1 is the last; no ramp value, or no ramp, is none. Broken variant: every value
+// mixed from the first colour (sdf-ramp-colour-first).
+TEST(SceneFile, ARampColourMixesTheTwoColoursItsValueFallsBetween) {
+  Scene s;
+  s.effects.ramp = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  Material m;
+  m.ramp_value = 0.75;
+  EXPECT_EQ(ramp_color(s, m), glm::dvec3(0, 0.5, 0.5));
+  m.ramp_value = 1;
+  EXPECT_EQ(ramp_color(s, m), glm::dvec3(0, 0, 1));
+  m.ramp_value = -1;
+  EXPECT_FALSE(ramp_color(s, m).has_value());
+  m.ramp_value = 0.5;
+  s.effects.ramp.clear();
+  EXPECT_FALSE(ramp_color(s, m).has_value());
+}
+
 // Each effect a scene can switch on is declared by its name, however little of it there is. Broken variants:
 // light fog left out; a lens with k2 alone not declared as distorting.
 TEST(SceneFile, DeclaredEffectsNameEveryEffectSwitchedOn) {
