@@ -348,7 +348,8 @@ std::string check_line(const std::string& output, const std::string& check) {
 // GLSL's mediump (precision=half) on the feature tour: binary16 spaces values 2^-9 apart near |p| = 2 to 4, wider
 // than the default normal epsilon (1e-3), so central differences collapse and normals miss by over 5 degrees at
 // p99 where float's are within 2; hits still pass. Broken variants: Half without its rounding
-// (glsl-half-unrounded), the half flag ignored (glsl-half-ignored): the run is float's and passes.
+// (glsl-half-unrounded), the half flag ignored (glsl-half-ignored) or not set by --set
+// (sdf-precision-half-not-applied): the run is float's and passes.
 TEST_F(Cli, HalfPrecisionModelsMediumpAndItsNormalsFail) {
   const std::string file = std::string(MARCHCHECK_TEST_DATA) + "/glsl/feature_tour.glsl";
   const CommandRun r = run("validate " + file + " --set precision=half");

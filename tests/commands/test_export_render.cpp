@@ -171,6 +171,7 @@ TEST(ExportRender, EveryExportCompilesAsShadertoysGlslEs300) {
 // The export's soil texture, run by marchcheck's GLSL evaluator (no driver needed), against the renderer's own
 // lookup through OpenImageIO at points all over the picture and past its edges. 1e-4: the texels are computed in
 // float where the picture's were in double (about 1e-6 apart); half a texel off moves the value by about 1e-3.
+// Broken variant: the lookup from texel corners (sdf-export-texel-centres).
 TEST(ExportRender, TheSoilTextureIsLookedUpAsOpenImageIODoes) {
   const std::string shader = sdf::shadertoy_shader(sdf::builtin_scene("lee-textured")) +
                              "float soilRed(vec3 p) { return mc_soil(p.x, p.y).r; }\n";

@@ -83,7 +83,8 @@ TEST(Glsl, BuiltinsAndConstructsFollowTheGlslSpecification) {
       {"return float(7 / int(p.z)) + 10.0 * float(-7 / int(p.z));", 3 - 30},  // truncation toward zero
       {"return float(7 % int(p.z + 1.0)) + float(uint(7) >> 1u);", 1 + 3},
       {"return float(floatBitsToUint(p.y) >> 23);", 126},  // 0.5's exponent field
-      {"return float(uint(7 % int(p.z + 2.0))) + float(int(0xfffffffeu));", 3 - 2},  // int <-> uint: the same bits
+      // int <-> uint: the same bits (broken variant: glsl-integer-bitcast-as-float)
+      {"return float(uint(7 % int(p.z + 2.0))) + float(int(0xfffffffeu));", 3 - 2},
       {"float a[3] = float[3](1.0, 2.0, 3.0); return a[int(p.z)];", 3},
       {"switch (int(p.z)) { case 1: return 4.0; case 2: return 5.0; default: return 1.0; }", 5},
       {"return any(greaterThan(p, vec3(1.0))) && !all(lessThan(p, vec3(1.0))) ? 1.0 : 0.0;", 1},
@@ -97,7 +98,8 @@ TEST(Glsl, BuiltinsAndConstructsFollowTheGlslSpecification) {
 }
 
 // Binary16 as IEEE rounds it: to nearest, ties to even (2049 and 2051 lie halfway between neighbours 2 apart),
-// overflow past 65504 to infinity, underflow below half the smallest subnormal (2^-24) to zero.
+// overflow past 65504 to infinity, underflow below half the smallest subnormal (2^-24) to zero. Broken variants:
+// no rounding at all (glsl-half-unrounded), ties away from zero (sdf-half-ties-up).
 TEST(Glsl, HalfRoundsAsIeeeBinary16) {
   EXPECT_EQ(float(Half(2049.0)), 2048.0f);
   EXPECT_EQ(float(Half(2051.0)), 2052.0f);
@@ -113,7 +115,8 @@ TEST(Glsl, HalfRoundsAsIeeeBinary16) {
 }
 
 // round_to_half against GCC's own conversion to _Float16, for floats and doubles of every binade binary16 spans
-// (subnormals included) and the ties between neighbours (x.5 ulp, both parities), on both signs.
+// (subnormals included) and the ties between neighbours (x.5 ulp, both parities), on both signs. Broken variant:
+// ties away from zero (sdf-half-ties-up).
 TEST(Glsl, HalfRoundingIsGccsFloat16Conversion) {
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> significand(1, 2);
@@ -134,7 +137,7 @@ TEST(Glsl, HalfRoundingIsGccsFloat16Conversion) {
 }
 
 // A GLSL field with precision half computes every operation in binary16: length(p) - 1 at p worked by hand, each
-// step rounded (r). The same field in float differs.
+// step rounded (r). The same field in float differs. Broken variant: the half flag ignored (glsl-half-ignored).
 TEST(Glsl, AHalfFieldRoundsEveryOperation) {
   const auto r = [](double x) { return static_cast<double>(static_cast<float>(static_cast<_Float16>(x))); };
   const double x = r(0.3), y = r(0.4), z = r(1.2);
@@ -262,7 +265,8 @@ TEST(Glsl, AResultsYSelectsTheNodesMaterials) {
 }
 
 // A GLSL file alone colours its material ids: .y = 0 to 7 picks the scene's materials y0 to y7; a float result, or
-// a .y past them, keeps no material (the renderer's grey).
+// a .y past them, keeps no material (the renderer's grey). Broken variant: no materials made
+// (sdf-glsl-file-no-materials).
 TEST(Glsl, AFileAlonePicksMaterialsByItsY) {
   const Scene ids = glsl_scene("ids.glsl", {}, "vec2 map(vec3 p) { return vec2(length(p) - 1.0, p.x < 0.0 ? 1.0 : 9.0); }");
   const Tape tape = compile(ids.root);

@@ -59,7 +59,8 @@ TEST(GlslExport, EveryOperatorsExampleRoundTripsBitForBit) {
 }
 
 // The noise hash's 64-bit lattice coordinates in 32-bit halves: negative cells (two's complement), cells past
-// 2^32 and past int64's folding bound (4e18: cell 0), where the halves carry and borrow.
+// 2^32 and past int64's folding bound (4e18: cell 0), where the halves carry and borrow. Broken variants:
+// sdf-export-noise-carry-dropped, -negative-cells, -product-carry, -truncated.
 TEST(GlslExport, TheHeightfieldsHashAgreesAtEveryMagnitude) {
   const Node field = make(Op::heightfield, {{"octaves", {0.5, 1, 0.25, 3.5}}}, {});
   std::vector<glm::vec3> at;
