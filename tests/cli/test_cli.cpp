@@ -513,7 +513,9 @@ TEST_F(Cli, ScenesExportAShadertoyShaderOrSayWhyNot) {
   for (const char* part : {"void mainImage(out vec4 fragColor, in vec2 fragCoord)", "vec2 map(vec3 p)",
                            "float rayMarch(vec3 ro, vec3 rd)", "vec3 calcNormal(vec3 p)", "#define MAX_STEPS"})
     EXPECT_NE(r.output.find(part), std::string::npos) << part;
-  expect_bad_input("scenes --export-glsl mesh-icosphere", "cannot export mesh-icosphere as GLSL: a mesh of 5120 triangles");
+  std::ofstream(path("ball.glsl")) << "float map(vec3 p) { return length(p) - 1.0; }\n";
+  expect_bad_input("scenes --export-glsl " + path("ball.glsl"),
+                   "cannot export ball as GLSL: a GLSL field is exported by pasting its own source");
   expect_bad_input("scenes --export-glsl no-such-scene", "no-such-scene");
 }
 

@@ -114,9 +114,8 @@ vec3 mc_soil(float s, float t) {
 }
 )";
 
-// mesh_distance.hpp's signed distance over every triangle: leaf_distance2's squared distance (its candidates
-// chosen in its order), the nearest triangle's closest point and feature by closest_on_triangle, the sign from that
-// feature's pseudonormal. Ties go to the first triangle in the search's order, as the search's do at equal boxes.
+// mesh_distance.hpp's arithmetic for one triangle: leaf_distance2's squared distance (its candidates chosen in its
+// order), and closest_on_triangle's closest point and feature.
 constexpr const char* kMeshHelpers = R"(float mc_triangle_distance2(vec3 p, vec3 a, vec3 b, vec3 c) {
   vec3 ab = b - a, ac = c - a, bc = c - b, ap = p - a, bp = p - b, cp = p - c;
   float d1 = mc_dot(ab, ap), d2 = mc_dot(ac, ap), d3 = mc_dot(ab, bp), d4 = mc_dot(ac, bp);
@@ -153,34 +152,241 @@ vec3 mc_closest_on_triangle(vec3 p, vec3 a, vec3 b, vec3 c, out int feature) {
 }
 )";
 
-// The triangles a mesh may have for the export: a shader visits every one at every evaluation.
-constexpr std::size_t kExportedTrianglesMax = 512;
+// The constant space a GL driver holds before it copies constant arrays into every invocation: llvmpipe's uniform
+// space, 4096 slots of 16 bytes (64 KiB). Past it a shader takes minutes to compile and to run (measured on Mesa
+// 22.3: 4000 vec4 constants compile in 5 s, 4200 do not finish in 190 s), so a mesh's tables must fit in it,
+// leaving room for the scene's other constants.
+constexpr std::size_t kMeshConstantSlotsMax = 3840;
 
-// One mesh's kernel: its triangles and pseudonormals (by feature) as constant arrays, in the search's order.
-std::string mesh_kernel(const MeshDistance& mesh, const std::string& name, const std::string& scene) {
-  const auto& corners = mesh.float_corners();
-  const auto& normals = mesh.float_pseudonormals();
-  if (corners.size() > kExportedTrianglesMax)
-    throw SceneError("cannot export " + scene + " as GLSL: a mesh of " + std::to_string(corners.size()) +
-                     " triangles (a shader visits every triangle at every evaluation; the export takes at most " +
-                     std::to_string(kExportedTrianglesMax) + ")");
-  auto vec3_of = [](glm::vec3 v) { return "vec3(" + literal(v.x) + ", " + literal(v.y) + ", " + literal(v.z) + ")"; };
+// Triangles per leaf of the exported search: the C++ search's leaves are runs of this many in its order.
+constexpr int kExportLeaf = 8;
+
+// The text `line` n times, K in it replaced by 0, 1, ... n - 1.
+std::string repeated(int n, const std::string& line) {
+  std::string out;
+  for (int k = 0; k < n; ++k) {
+    std::string copy = line;
+    copy.replace(copy.find('K'), 1, std::to_string(k));
+    out += copy;
+  }
+  return out;
+}
+
+// A mesh walk's step, written out with no loop (llvmpipe ends every loop of a shader once all of them together
+// have run 65535 times, so a shader's loops must be few): from box b, the next box the walk enters, its
+// siblings tried around from the one `first` names (two bits per level) and taken if `accepts`, else its parent's
+// next; false when the walk is over.
+std::string walk_step(const std::string& name, const std::string& step, const std::string& params,
+                      const std::string& accepts, int levels) {
   std::ostringstream out;
-  const size_t n = corners.size();
-  out << "const vec3 " << name << "_CORNERS[" << 3 * n << "] = vec3[](";
-  for (size_t i = 0; i < n; ++i)
-    for (int k = 0; k < 3; ++k) out << (i + k ? ",\n  " : "") << vec3_of(corners[i][static_cast<size_t>(k)]);
-  // Feature order here: vertices 0-2, edge 01, edge 12, edge 20, face (meshes::TriangleFeature's).
-  out << ");\nconst vec3 " << name << "_NORMALS[" << 7 * n << "] = vec3[](";
-  for (size_t i = 0; i < n; ++i)
-    for (int k = 0; k < 7; ++k) out << (i + k ? ",\n  " : "") << vec3_of(normals[i][static_cast<size_t>(k)]);
-  out << ");\nfloat " << name << "(vec3 p) {\n  float best2 = uintBitsToFloat(0x7f800000u); int best = 0;  // infinity\n"
-      << "  for (int i = 0; i < " << n << "; ++i) {\n"
-      << "    float d2 = mc_triangle_distance2(p, " << name << "_CORNERS[3 * i], " << name << "_CORNERS[3 * i + 1], "
-      << name << "_CORNERS[3 * i + 2]);\n    if (d2 < best2) { best2 = d2; best = i; }\n  }\n"
-      << "  int feature; vec3 q = mc_closest_on_triangle(p, " << name << "_CORNERS[3 * best], " << name
-      << "_CORNERS[3 * best + 1], " << name << "_CORNERS[3 * best + 2], feature);\n"
-      << "  return (mc_dot(p - q, " << name << "_NORMALS[7 * best + feature]) < 0.0 ? -1.0 : 1.0) * sqrt(best2);\n}\n";
+  out << "bool " << name << "_" << step << "(" << params << ", inout int b, inout int level, uint first) {\n"
+      << "  bool more = false;\n";
+  for (int l = 0; l < levels; ++l) {
+    out << "  if (level > 0 && !more) {\n"
+        << "    int c = " << name << "_LEVEL[level] + ((b - " << name << "_LEVEL[level]) & ~3);\n"
+        << "    int n = min(4, " << name << "_LEVEL[level + 1] - c), f = int((first >> uint(2 * level)) & 3u);\n"
+        << "    int k = b - c; bool around = false;\n";
+    for (int s = 0; s < 3; ++s)
+      out << "    if (!more && !around) {\n      k = (k + 1) % n; around = k == f;\n"
+          << "      if (!around && " << accepts << ") { b = c + k; more = true; }\n    }\n";
+    out << "    if (!more) { b = " << name << "_LEVEL[level - 1] + ((b - " << name << "_LEVEL[level]) >> 2); --level; }\n"
+        << "  }\n";
+  }
+  out << "  return more;\n}\n";
+  return out.str();
+}
+
+// A mesh's triangles in the C++ search's order, packed to fit the constant space: the vertices' floats (four to a
+// slot), then 32-bit words holding each triangle's vertex indices in as many bits as the vertex count needs, then
+// the boxes of a four-wide tree over runs of kExportLeaf triangles, one byte per bound on a grid over the mesh's
+// box, rounded outwards by a whole cell so that a box never prunes a triangle it holds.
+struct PackedMesh {
+  int triangles = 0;
+  std::vector<glm::vec3> vertices;
+  int index_bits = 1;
+  std::vector<std::uint32_t> words;
+  size_t box_word = 0;           // where the boxes' bytes begin
+  std::vector<int> level_start;  // each level's first box, root first, and the count of boxes
+  glm::dvec3 origin, cell;       // of the boxes' grid
+  size_t slots() const { return (3 * vertices.size() + 3) / 4 + (words.size() + 3) / 4; }
+};
+
+PackedMesh pack_mesh(const MeshDistance& mesh) {
+  PackedMesh m;
+  const auto& corners = mesh.float_corners();
+  const int n = m.triangles = static_cast<int>(corners.size());
+  // The vertices, shared by bit-identical corners.
+  std::map<std::array<float, 3>, std::uint32_t> index_of;
+  std::vector<std::uint32_t> indices;
+  for (const auto& t : corners)
+    for (const glm::vec3& v : t) {
+      const auto [at, added] = index_of.try_emplace({v.x, v.y, v.z}, static_cast<std::uint32_t>(m.vertices.size()));
+      if (added) m.vertices.push_back(v);
+      indices.push_back(at->second);
+    }
+  while ((std::size_t{1} << m.index_bits) < m.vertices.size()) ++m.index_bits;
+  // The tree's levels, root first; a box's children are the next level's 4j .. 4j + 3.
+  glm::dvec3 lo(INFINITY), hi(-INFINITY);
+  for (const glm::vec3& v : m.vertices) lo = glm::min(lo, glm::dvec3(v)), hi = glm::max(hi, glm::dvec3(v));
+  m.cell = (hi - lo) / 252.0;
+  m.origin = lo - 1.5 * m.cell;  // grid 0..255 holds lo - cell .. hi + cell
+  std::vector<std::vector<std::array<glm::dvec3, 2>>> levels(1);
+  for (int first = 0; first < n; first += kExportLeaf) {
+    std::array<glm::dvec3, 2> box{glm::dvec3(INFINITY), glm::dvec3(-INFINITY)};
+    for (int t = first; t < std::min(n, first + kExportLeaf); ++t)
+      for (const glm::vec3& v : corners[static_cast<size_t>(t)])
+        box = {glm::min(box[0], glm::dvec3(v)), glm::max(box[1], glm::dvec3(v))};
+    levels[0].push_back(box);
+  }
+  while (levels.front().size() > 1) {
+    std::vector<std::array<glm::dvec3, 2>> up;
+    for (size_t j = 0; j < levels.front().size(); j += 4) {
+      std::array<glm::dvec3, 2> box = levels.front()[j];
+      for (size_t k = j + 1; k < std::min(j + 4, levels.front().size()); ++k)
+        box = {glm::min(box[0], levels.front()[k][0]), glm::max(box[1], levels.front()[k][1])};
+      up.push_back(box);
+    }
+    levels.insert(levels.begin(), up);
+  }
+  // The words: indices, then the box bytes (lo x y z, hi x y z), level by level.
+  m.words.assign((indices.size() * static_cast<size_t>(m.index_bits) + 31) / 32, 0u);
+  for (size_t k = 0; k < indices.size(); ++k) {
+    const size_t bit = k * static_cast<size_t>(m.index_bits);
+    m.words[bit / 32] |= indices[k] << (bit % 32);
+    if (bit % 32 + static_cast<size_t>(m.index_bits) > 32) m.words[bit / 32 + 1] |= indices[k] >> (32 - bit % 32);
+  }
+  m.box_word = m.words.size();
+  size_t bytes = 0;
+  for (const auto& level : levels) {
+    m.level_start.push_back(static_cast<int>(bytes / 6));
+    for (const auto& box : level)
+      for (int side = 0; side < 2; ++side)
+        for (int i = 0; i < 3; ++i) {
+          const double at = (box[static_cast<size_t>(side)][i] - m.origin[i]) / m.cell[i];
+          const auto q = static_cast<std::uint32_t>(side == 0 ? std::floor(at) - 1 : std::ceil(at) + 1);
+          if (bytes % 4 == 0) m.words.push_back(0);
+          m.words.back() |= q << (8 * (bytes % 4));
+          ++bytes;
+        }
+  }
+  m.level_start.push_back(static_cast<int>(bytes / 6));
+  return m;
+}
+
+// One mesh's kernel over its packed triangles (NAME_P the vertices, NAME_W the words). The distance is the C++
+// search's: the smallest squared distance over every triangle by leaf_distance2's arithmetic, so the same float.
+// The sign is the closest face's normal where the closest point lies inside a face, and otherwise the parity of a
+// ray's crossings: the pseudonormals the C++ sign uses do not fit. Both give the C++ sign except within rounding of
+// the surface.
+std::string mesh_kernel(const MeshDistance& mesh, const std::string& name, const std::string& scene) {
+  const PackedMesh m = pack_mesh(mesh);
+  const int n = m.triangles, leaf_level = static_cast<int>(m.level_start.size()) - 2;
+  const auto& vertices = m.vertices;
+  const auto& words = m.words;
+  const auto& level_start = m.level_start;
+  const int index_bits = m.index_bits;
+  const size_t box_word = m.box_word;
+  const glm::dvec3 origin = m.origin, cell = m.cell;
+  const size_t slots = m.slots();
+  if (slots > kMeshConstantSlotsMax)
+    throw SceneError("cannot export " + scene + " as GLSL: its mesh of " + std::to_string(n) + " triangles needs " +
+                     std::to_string(slots) + " constant slots of 16 bytes, more than the " +
+                     std::to_string(kMeshConstantSlotsMax) + " a GL driver holds beside the scene's other constants");
+  std::ostringstream out;
+  out << "const vec4 " << name << "_P[" << (3 * vertices.size() + 3) / 4 << "] = vec4[](";
+  for (size_t f = 0; f < 3 * vertices.size(); f += 4) {
+    out << (f ? ",\n  " : "") << "vec4(";
+    for (size_t k = f; k < f + 4; ++k)
+      out << (k > f ? ", " : "") << literal(k < 3 * vertices.size() ? vertices[k / 3][static_cast<int>(k % 3)] : 0.0f);
+    out << ")";
+  }
+  out << ");\nconst uvec4 " << name << "_W[" << (words.size() + 3) / 4 << "] = uvec4[](";
+  for (size_t w = 0; w < words.size(); w += 4) {
+    out << (w ? ",\n  " : "") << "uvec4(";
+    for (size_t k = w; k < w + 4; ++k) out << (k > w ? ", " : "") << (k < words.size() ? words[k] : 0u) << "u";
+    out << ")";
+  }
+  out << ");\nconst int " << name << "_LEVEL[" << level_start.size() << "] = int[](";
+  for (size_t l = 0; l < level_start.size(); ++l) out << (l ? ", " : "") << level_start[l];
+  auto vec3_of = [](glm::dvec3 v) {
+    return "vec3(" + literal(float(v.x)) + ", " + literal(float(v.y)) + ", " + literal(float(v.z)) + ")";
+  };
+  out << ");\nuint " << name << "_word(int i) { return " << name << "_W[i >> 2][i & 3]; }\n"
+      << "vec3 " << name << "_corner(int t, int k) {\n"
+      << "  int bit = (3 * t + k) * " << index_bits << ", s = bit & 31;\n"
+      << "  uint w = " << name << "_word(bit >> 5) >> uint(s);\n"
+      << "  if (s + " << index_bits << " > 32) w |= " << name << "_word((bit >> 5) + 1) << uint(32 - s);\n"
+      << "  int f = 3 * int(w & " << ((1u << index_bits) - 1) << "u);\n"
+      << "  return vec3(" << name << "_P[f >> 2][f & 3], " << name << "_P[(f + 1) >> 2][(f + 1) & 3], " << name
+      << "_P[(f + 2) >> 2][(f + 2) & 3]);\n}\n"
+      << "float " << name << "_byte(int at) {\n  return float((" << name << "_word(" << box_word
+      << " + (at >> 2)) >> uint(8 * (at & 3))) & 255u);\n}\n"
+      << "void " << name << "_box(int b, out vec3 lo, out vec3 hi) {\n"
+      << "  lo = " << vec3_of(origin) << " + vec3(" << name << "_byte(6 * b), " << name << "_byte(6 * b + 1), " << name
+      << "_byte(6 * b + 2)) * " << vec3_of(cell) << ";\n"
+      << "  hi = " << vec3_of(origin) << " + vec3(" << name << "_byte(6 * b + 3), " << name << "_byte(6 * b + 4), "
+      << name << "_byte(6 * b + 5)) * " << vec3_of(cell) << ";\n}\n"
+      << "float " << name << "_box_distance2(vec3 p, int b) {\n  vec3 lo, hi; " << name << "_box(b, lo, hi);\n"
+      << "  vec3 d = max(max(lo - p, p - hi), vec3(0.0));\n  return mc_dot(d, d);\n}\n"
+      // The ray's direction avoids the axes and diagonals meshes are built on.
+      << "const vec3 " << name << "_DIR = vec3(0.5362, 0.7174, 0.4450);\n"
+      << "bool " << name << "_crosses(vec3 p, int b) {\n  vec3 lo, hi; " << name << "_box(b, lo, hi);\n"
+      << "  vec3 t0 = (lo - p) / " << name << "_DIR, t1 = (hi - p) / " << name << "_DIR;\n"
+      << "  vec3 tn = min(t0, t1), tf = max(t0, t1);\n"
+      << "  return max(max(tn.x, tn.y), max(tn.z, 0.0)) <= min(min(tf.x, tf.y), tf.z);\n}\n"
+      << "void " << name << "_try(vec3 p, int t, inout float best2, inout int best) {\n"
+      << "  if (t >= " << n << ") return;\n"
+      << "  float d2 = mc_triangle_distance2(p, " << name << "_corner(t, 0), " << name << "_corner(t, 1), " << name
+      << "_corner(t, 2));\n  if (d2 < best2) { best2 = d2; best = t; }\n}\n"
+      << "void " << name << "_cross(vec3 p, int t, inout int crossings) {\n"
+      << "  if (t >= " << n << ") return;\n"
+      << "  vec3 a = " << name << "_corner(t, 0), e1 = " << name << "_corner(t, 1) - a, e2 = " << name
+      << "_corner(t, 2) - a;\n"
+      << "  vec3 h = cross(" << name << "_DIR, e2), s = p - a, q = cross(s, e1); float det = mc_dot(e1, h);\n"
+      << "  if (det == 0.0) return;\n"
+      << "  float u = mc_dot(s, h) / det, v = mc_dot(" << name << "_DIR, q) / det;\n"
+      << "  if (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && mc_dot(e2, q) / det > 0.0) ++crossings;\n}\n"
+      << "void " << name << "_nearer(vec3 p, int c, int k, int n, inout float e0, inout int k0) {\n"
+      << "  if (k >= n) return;\n  float e = " << name << "_box_distance2(p, c + k);\n"
+      << "  if (e < e0) { e0 = e; k0 = k; }\n}\n"
+      << walk_step(name, "closest", "vec3 p, float best2", name + "_box_distance2(p, c + k) < best2", leaf_level)
+      << walk_step(name, "crossing", "vec3 p", name + "_crosses(p, c + k)", leaf_level)
+      // Odd crossings: inside.
+      << "bool " << name << "_inside(vec3 p) {\n"
+      << "  int b = 0, level = 0, crossings = 0;\n"
+      << "  for (bool walking = " << name << "_crosses(p, 0); walking;) {\n"
+      << "    if (level < " << leaf_level << ") {\n"
+      << "      b = " << name << "_LEVEL[level + 1] + 4 * (b - " << name << "_LEVEL[level]); ++level;\n"
+      << "      if (" << name << "_crosses(p, b)) continue;\n"
+      << "    } else {\n"
+      << "      int from = (b - " << level_start[static_cast<size_t>(leaf_level)] << ") * " << kExportLeaf << ";\n"
+      << repeated(kExportLeaf, "      " + name + "_cross(p, from + K, crossings);\n")
+      << "    }\n"
+      << "    walking = " << name << "_crossing(p, b, level, 0u);\n  }\n"
+      << "  return (crossings & 1) == 1;\n}\n"
+      // The closest triangle: each box's nearest child first, boxes no nearer than the best found skipped.
+      << "float " << name << "(vec3 p) {\n"
+      << "  float best2 = uintBitsToFloat(0x7f800000u); int best = 0;  // infinity\n"
+      << "  int b = 0, level = 0; uint first = 0u;\n"
+      << "  for (bool walking = true; walking;) {\n"
+      << "    if (level < " << leaf_level << ") {\n"
+      << "      int c = " << name << "_LEVEL[level + 1] + 4 * (b - " << name << "_LEVEL[level]);\n"
+      << "      int n = min(4, " << name << "_LEVEL[level + 2] - c), k0 = 0; float e0 = " << name
+      << "_box_distance2(p, c);\n"
+      << repeated(3, "      " + name + "_nearer(p, c, K + 1, n, e0, k0);\n")
+      << "      ++level; b = c + k0;\n"
+      << "      first = (first & ~(3u << uint(2 * level))) | (uint(k0) << uint(2 * level));\n"
+      << "      if (e0 < best2) continue;\n"
+      << "    } else {\n"
+      << "      int from = (b - " << level_start[static_cast<size_t>(leaf_level)] << ") * " << kExportLeaf << ";\n"
+      << repeated(kExportLeaf, "      " + name + "_try(p, from + K, best2, best);\n")
+      << "    }\n"
+      << "    walking = " << name << "_closest(p, best2, b, level, first);\n  }\n"
+      << "  vec3 a = " << name << "_corner(best, 0), bb = " << name << "_corner(best, 1), c = " << name
+      << "_corner(best, 2);\n"
+      << "  int feature; vec3 q = mc_closest_on_triangle(p, a, bb, c, feature);\n"
+      << "  bool inside = feature == 6 ? mc_dot(p - q, cross(bb - a, c - a)) < 0.0 : " << name << "_inside(p);\n"
+      << "  return (inside ? -1.0 : 1.0) * sqrt(best2);\n}\n";
   return out.str();
 }
 
