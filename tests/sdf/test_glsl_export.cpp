@@ -88,6 +88,18 @@ TEST(GlslExport, EveryBuiltinRoundTripsBitForBit) {
   EXPECT_EQ(exported, 29);
 }
 
+// Beside a regular tetrahedron's edges (70.5 degrees inside) a point's closest triangle can face away from it: the
+// export's sign there is the ray's, not that face's. Broken variant: the face normal's sign everywhere
+// (sdf-export-mesh-sign-from-face).
+TEST(GlslExport, AMeshsSignIsRightBesideEdgesSharperThanARightAngle) {
+  Scene scene;
+  scene.root = mesh("tetrahedron");
+  load_meshes(scene, [](const std::string&) {
+    return meshes::Mesh{{{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}}, {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}}};
+  });
+  EXPECT_EQ(first_difference(scene.root, 0, "tetrahedron", points_around(glm::dvec3(0), 2, 400)), "");
+}
+
 // A mesh past the constant space a GL driver holds is refused, saying what it needs: icosphere(1, 5)'s 10242
 // vertices take 3 x 10242 / 4 = 7682 slots, its 3 x 20480 indices of 14 bits 6720, its 3414 boxes of 6 bytes 1281.
 TEST(GlslExport, AMeshPastTheDriversConstantSpaceIsRefusedSayingWhatItNeeds) {
