@@ -226,10 +226,9 @@ PackedMesh pack_mesh(const MeshDistance& mesh) {
     }
   while ((std::size_t{1} << m.index_bits) < m.vertices.size()) ++m.index_bits;
   // The tree's levels, root first; a box's children are the next level's 4j .. 4j + 3.
-  glm::dvec3 lo(INFINITY), hi(-INFINITY);
-  for (const glm::vec3& v : m.vertices) lo = glm::min(lo, glm::dvec3(v)), hi = glm::max(hi, glm::dvec3(v));
-  m.cell = (hi - lo) / 252.0;
-  m.origin = lo - 1.5 * m.cell;  // grid 0..255 holds lo - cell .. hi + cell
+  // Grid 0..255 holds the mesh's box widened by a cell, more than the float corners' rounding out of it.
+  m.cell = (mesh.bounds().hi - mesh.bounds().lo) / 252.0;
+  m.origin = mesh.bounds().lo - 1.5 * m.cell;
   std::vector<std::vector<std::array<glm::dvec3, 2>>> levels(1);
   for (int first = 0; first < n; first += kExportLeaf) {
     std::array<glm::dvec3, 2> box{glm::dvec3(INFINITY), glm::dvec3(-INFINITY)};
@@ -281,51 +280,50 @@ PackedMesh pack_mesh(const MeshDistance& mesh) {
 std::string mesh_kernel(const MeshDistance& mesh, const std::string& name, const std::string& scene) {
   const PackedMesh m = pack_mesh(mesh);
   const int n = m.triangles, leaf_level = static_cast<int>(m.level_start.size()) - 2;
-  const auto& vertices = m.vertices;
-  const auto& words = m.words;
-  const auto& level_start = m.level_start;
-  const int index_bits = m.index_bits;
-  const size_t box_word = m.box_word;
-  const glm::dvec3 origin = m.origin, cell = m.cell;
-  const size_t slots = m.slots();
-  if (slots > kMeshConstantSlotsMax)
+  if (m.slots() > kMeshConstantSlotsMax)
     throw SceneError("cannot export " + scene + " as GLSL: its mesh of " + std::to_string(n) + " triangles needs " +
-                     std::to_string(slots) + " constant slots of 16 bytes, more than the " +
+                     std::to_string(m.slots()) + " constant slots of 16 bytes, more than the " +
                      std::to_string(kMeshConstantSlotsMax) + " a GL driver holds beside the scene's other constants");
+  // The first triangle of leaf box b.
+  const std::string leaf_first = "      int from = (b - " +
+                                 std::to_string(m.level_start[static_cast<size_t>(leaf_level)]) + ") * " +
+                                 std::to_string(kExportLeaf) + ";\n";
   std::ostringstream out;
-  out << "const vec4 " << name << "_P[" << (3 * vertices.size() + 3) / 4 << "] = vec4[](";
-  for (size_t f = 0; f < 3 * vertices.size(); f += 4) {
+  out << "const vec4 " << name << "_P[" << (3 * m.vertices.size() + 3) / 4 << "] = vec4[](";
+  for (size_t f = 0; f < 3 * m.vertices.size(); f += 4) {
     out << (f ? ",\n  " : "") << "vec4(";
-    for (size_t k = f; k < f + 4; ++k)
-      out << (k > f ? ", " : "") << literal(k < 3 * vertices.size() ? vertices[k / 3][static_cast<int>(k % 3)] : 0.0f);
+    for (size_t k = f; k < f + 4; ++k) {
+      const float value = k < 3 * m.vertices.size() ? m.vertices[k / 3][static_cast<int>(k % 3)] : 0.0f;
+      out << (k > f ? ", " : "") << literal(value);
+    }
     out << ")";
   }
-  out << ");\nconst uvec4 " << name << "_W[" << (words.size() + 3) / 4 << "] = uvec4[](";
-  for (size_t w = 0; w < words.size(); w += 4) {
+  out << ");\nconst uvec4 " << name << "_W[" << (m.words.size() + 3) / 4 << "] = uvec4[](";
+  for (size_t w = 0; w < m.words.size(); w += 4) {
     out << (w ? ",\n  " : "") << "uvec4(";
-    for (size_t k = w; k < w + 4; ++k) out << (k > w ? ", " : "") << (k < words.size() ? words[k] : 0u) << "u";
+    for (size_t k = w; k < w + 4; ++k) out << (k > w ? ", " : "") << (k < m.words.size() ? m.words[k] : 0u) << "u";
     out << ")";
   }
-  out << ");\nconst int " << name << "_LEVEL[" << level_start.size() << "] = int[](";
-  for (size_t l = 0; l < level_start.size(); ++l) out << (l ? ", " : "") << level_start[l];
+  out << ");\nconst int " << name << "_LEVEL[" << m.level_start.size() << "] = int[](";
+  for (size_t l = 0; l < m.level_start.size(); ++l) out << (l ? ", " : "") << m.level_start[l];
   auto vec3_of = [](glm::dvec3 v) {
     return "vec3(" + literal(float(v.x)) + ", " + literal(float(v.y)) + ", " + literal(float(v.z)) + ")";
   };
   out << ");\nuint " << name << "_word(int i) { return " << name << "_W[i >> 2][i & 3]; }\n"
       << "vec3 " << name << "_corner(int t, int k) {\n"
-      << "  int bit = (3 * t + k) * " << index_bits << ", s = bit & 31;\n"
+      << "  int bit = (3 * t + k) * " << m.index_bits << ", s = bit & 31;\n"
       << "  uint w = " << name << "_word(bit >> 5) >> uint(s);\n"
-      << "  if (s + " << index_bits << " > 32) w |= " << name << "_word((bit >> 5) + 1) << uint(32 - s);\n"
-      << "  int f = 3 * int(w & " << ((1u << index_bits) - 1) << "u);\n"
+      << "  if (s + " << m.index_bits << " > 32) w |= " << name << "_word((bit >> 5) + 1) << uint(32 - s);\n"
+      << "  int f = 3 * int(w & " << ((1u << m.index_bits) - 1) << "u);\n"
       << "  return vec3(" << name << "_P[f >> 2][f & 3], " << name << "_P[(f + 1) >> 2][(f + 1) & 3], " << name
       << "_P[(f + 2) >> 2][(f + 2) & 3]);\n}\n"
-      << "float " << name << "_byte(int at) {\n  return float((" << name << "_word(" << box_word
+      << "float " << name << "_byte(int at) {\n  return float((" << name << "_word(" << m.box_word
       << " + (at >> 2)) >> uint(8 * (at & 3))) & 255u);\n}\n"
       << "void " << name << "_box(int b, out vec3 lo, out vec3 hi) {\n"
-      << "  lo = " << vec3_of(origin) << " + vec3(" << name << "_byte(6 * b), " << name << "_byte(6 * b + 1), " << name
-      << "_byte(6 * b + 2)) * " << vec3_of(cell) << ";\n"
-      << "  hi = " << vec3_of(origin) << " + vec3(" << name << "_byte(6 * b + 3), " << name << "_byte(6 * b + 4), "
-      << name << "_byte(6 * b + 5)) * " << vec3_of(cell) << ";\n}\n"
+      << "  lo = " << vec3_of(m.origin) << " + vec3(" << name << "_byte(6 * b), " << name << "_byte(6 * b + 1), " << name
+      << "_byte(6 * b + 2)) * " << vec3_of(m.cell) << ";\n"
+      << "  hi = " << vec3_of(m.origin) << " + vec3(" << name << "_byte(6 * b + 3), " << name << "_byte(6 * b + 4), "
+      << name << "_byte(6 * b + 5)) * " << vec3_of(m.cell) << ";\n}\n"
       << "float " << name << "_box_distance2(vec3 p, int b) {\n  vec3 lo, hi; " << name << "_box(b, lo, hi);\n"
       << "  vec3 d = max(max(lo - p, p - hi), vec3(0.0));\n  return mc_dot(d, d);\n}\n"
       // The ray's direction avoids the axes and diagonals meshes are built on.
@@ -359,7 +357,7 @@ std::string mesh_kernel(const MeshDistance& mesh, const std::string& name, const
       << "      b = " << name << "_LEVEL[level + 1] + 4 * (b - " << name << "_LEVEL[level]); ++level;\n"
       << "      if (" << name << "_crosses(p, b)) continue;\n"
       << "    } else {\n"
-      << "      int from = (b - " << level_start[static_cast<size_t>(leaf_level)] << ") * " << kExportLeaf << ";\n"
+      << leaf_first
       << repeated(kExportLeaf, "      " + name + "_cross(p, from + K, crossings);\n")
       << "    }\n"
       << "    walking = " << name << "_crossing(p, b, level, 0u);\n  }\n"
@@ -378,7 +376,7 @@ std::string mesh_kernel(const MeshDistance& mesh, const std::string& name, const
       << "      first = (first & ~(3u << uint(2 * level))) | (uint(k0) << uint(2 * level));\n"
       << "      if (e0 < best2) continue;\n"
       << "    } else {\n"
-      << "      int from = (b - " << level_start[static_cast<size_t>(leaf_level)] << ") * " << kExportLeaf << ";\n"
+      << leaf_first
       << repeated(kExportLeaf, "      " + name + "_try(p, from + K, best2, best);\n")
       << "    }\n"
       << "    walking = " << name << "_closest(p, best2, b, level, first);\n  }\n"

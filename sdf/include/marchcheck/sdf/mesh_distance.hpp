@@ -54,10 +54,9 @@ class MeshDistance {
   template <class T>
   T signed_distance(glm::vec<3, T> p) const;
 
-  // The float search's triangles in its order, with their pseudonormals by Feature: what a shader needs to compute
-  // signed_distance<float> over every triangle (sdf::glsl_map).
+  // The float search's triangles in its order: what a shader needs to find closest<float>'s squared distance
+  // (sdf::glsl_map), its runs of kLeafWidth being the search's leaves.
   const std::vector<std::array<glm::vec3, 3>>& float_corners() const { return single_.corners; }
-  const std::vector<std::array<glm::vec3, 7>>& float_pseudonormals() const { return single_.normals; }
 
  private:
   // Up to kLeafWidth triangles side by side, each corner and edge vector as one array per axis, so their
