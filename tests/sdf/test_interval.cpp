@@ -117,6 +117,17 @@ TEST_P(IntervalOfEveryOperator, HoldsEveryValueAndGradientOfItsBoxAndIsTightOnSm
 INSTANTIATE_TEST_SUITE_P(All, IntervalOfEveryOperator, ::testing::ValuesIn(all_ops()),
                          [](const auto& param) { return std::string(op_info(param.param).name); });
 
+// Over three cells and on past the last one, a limited repetition's point runs far beyond half a cell: at
+// x = -5 it is -4 (period 1, cells -1 to 1), where the sphere's distance is 3.7.
+TEST(Interval, ALimitedRepetitionHoldsItsEndCellsRunningOn) {
+  const Node node = make(Op::repeat_limited, {{"period", {1, 0, 0}}, {"count", {1, 0, 0}}}, {sphere(0.3)});
+  const Tape tape = compile(node);
+  const Box box{Interval(-5, 1), Interval(-0.1, 0.1), Interval(-0.1, 0.1)};
+  EXPECT_GE(evaluate(tape, box).hi, 3.7);
+  std::mt19937 rng(4);
+  EXPECT_EQ(first_escape(tape, box, rng), "");
+}
+
 // sin and cos on intervals that hold a maximum, a minimum, both, or neither, and far from 0.
 TEST(Interval, SinAndCosHoldTheirExtremaAndEnds) {
   std::mt19937 rng(2);
