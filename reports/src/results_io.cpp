@@ -31,7 +31,7 @@ std::string validate_json(const std::vector<validation::SceneResult>& results) {
     for (const auto& c : r.checks)
       checks.push_back({{"name", c.name}, {"value", number_or_null(c.value)}, {"limit", number_or_null(c.limit)},
                         {"pass", c.pass}, {"limit_source", c.limit_source}, {"why", c.why}});
-    list.push_back({{"scene", r.scene}, {"defects", r.defects}, {"pass", r.pass()}, {"checks", checks},
+    list.push_back({{"scene", r.scene}, {"defects", r.defects}, {"reference", r.reference}, {"pass", r.pass()}, {"checks", checks},
                     {"not_checked", r.not_checked}, {"metrics", metrics_object(r.metrics)}});
   }
   return nlohmann::ordered_json{{"kind", "validate"}, {"results", list}}.dump(2) + "\n";

@@ -1,10 +1,11 @@
-// Interval arithmetic and the tape's interval rules. Compiled with -frounding-math: Boost.Interval switches the
-// rounding direction around each operation, which the optimiser must not fold or reorder across.
+// Interval arithmetic and the tape's interval rules. Compiled with -frounding-math: the rounding direction
+// changes at run time, and the optimiser must not fold or reorder operations across it.
 #include "marchcheck/sdf/interval.hpp"
 
 #include <boost/numeric/interval.hpp>
 
 #include <algorithm>
+#include <cfenv>
 #include <cmath>
 #include <numbers>
 #include <string_view>
@@ -19,14 +20,65 @@ using Boost = boost::numeric::interval<double, bi::policies<bi::rounded_math<dou
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-Boost boost_of(Interval a) { return Boost(a.lo, a.hi, true); }
+// Switching the rounding direction around every operation cost 75% of a certified ray (fesetround and
+// fegetround, measured on lee-terrain): an evaluation of the tape rounds upwards throughout instead, as Boost's
+// unprotected intervals expect (rounded_arith_opp rounds down by negating), and the operators called outside one
+// switch around each operation.
+using Unprotected = bi::unprotect<Boost>::type;
+thread_local bool t_upward = false;
+
+// The tape evaluated rounding upwards.
+class Upward {
+ public:
+  Upward() : saved_(std::fegetround()) {
+    std::fesetround(FE_UPWARD);
+    t_upward = true;
+  }
+  ~Upward() {
+    std::fesetround(saved_);
+    t_upward = false;
+  }
+  Upward(const Upward&) = delete;
+  Upward& operator=(const Upward&) = delete;
+
+ private:
+  int saved_;
+};
+
+// glibc's sin, cos and log keep their documented error bound in the default rounding only.
+class ToNearest {
+ public:
+  ToNearest() {
+    if (t_upward) std::fesetround(FE_TONEAREST);
+  }
+  ~ToNearest() {
+    if (t_upward) std::fesetround(FE_UPWARD);
+  }
+  ToNearest(const ToNearest&) = delete;
+  ToNearest& operator=(const ToNearest&) = delete;
+};
 
 // A bound that is NaN (inf - inf, 0 x inf) proves nothing: the whole line.
 Interval safe(double lo, double hi) {
   if (std::isnan(lo) || std::isnan(hi)) return Interval::entire();
   return {lo, hi};
 }
-Interval from(const Boost& b) { return safe(b.lower(), b.upper()); }
+template <class B>
+Interval from(const B& b) {
+  return safe(b.lower(), b.upper());
+}
+
+// A Boost operation on two intervals, in the rounding the evaluation has set or switching around it.
+template <class Op>
+Interval boost_op(Interval a, Interval b, Op op) {
+  if (t_upward) return from(op(Unprotected(a.lo, a.hi, true), Unprotected(b.lo, b.hi, true)));
+  return from(op(Boost(a.lo, a.hi, true), Boost(b.lo, b.hi, true)));
+}
+template <class Op>
+Interval boost_op(Interval a, Op op) {
+  if (t_upward) return from(op(Unprotected(a.lo, a.hi, true)));
+  return from(op(Boost(a.lo, a.hi, true)));
+}
 
 // glibc documents at most 1 ulp of error for sin, cos and log in double on x86-64 (the manual's "Known Maximum
 // Errors in Math Functions"); each bound is moved 4 ulps outwards.
@@ -53,6 +105,7 @@ bool holds_phase(Interval a, double phase) {
 template <double (*F)(double)>
 Interval periodic(Interval a, double max_phase) {
   if (!(a.width() < 6)) return {-1, 1};  // wider than a turn or not finite
+  const ToNearest nearest;
   const double fa = F(a.lo), fb = F(a.hi);
   const double lo = holds_phase(a, max_phase + std::numbers::pi) ? -1 : std::max(-1.0, down(std::min(fa, fb)));
   const double hi = holds_phase(a, max_phase) ? 1 : std::min(1.0, up(std::max(fa, fb)));
@@ -68,18 +121,26 @@ Interval& Interval::operator-=(Interval b) { return *this = *this - b; }
 Interval& Interval::operator*=(Interval b) { return *this = *this * b; }
 Interval& Interval::operator/=(Interval b) { return *this = *this / b; }
 
-Interval operator+(Interval a, Interval b) { return from(boost_of(a) + boost_of(b)); }
-Interval operator-(Interval a, Interval b) { return from(boost_of(a) - boost_of(b)); }
+Interval operator+(Interval a, Interval b) {
+  return boost_op(a, b, [](const auto& x, const auto& y) { return x + y; });
+}
+Interval operator-(Interval a, Interval b) {
+  return boost_op(a, b, [](const auto& x, const auto& y) { return x - y; });
+}
 Interval operator-(Interval a) { return {-a.hi, -a.lo}; }
-Interval operator*(Interval a, Interval b) { return from(boost_of(a) * boost_of(b)); }
+Interval operator*(Interval a, Interval b) {
+  return boost_op(a, b, [](const auto& x, const auto& y) { return x * y; });
+}
 Interval operator/(Interval a, Interval b) {
   if (b.contains(0)) return Interval::entire();  // may be a division by zero
-  return from(boost_of(a) / boost_of(b));
+  return boost_op(a, b, [](const auto& x, const auto& y) { return x / y; });
 }
-Interval square(Interval a) { return from(boost::numeric::square(boost_of(a))); }
+Interval square(Interval a) {
+  return boost_op(a, [](const auto& x) { return boost::numeric::square(x); });
+}
 Interval sqrt(Interval a) {
   if (!(a.lo >= 0)) return Interval::entire();  // may be the root of a negative: NaN
-  return from(boost::numeric::sqrt(boost_of(a)));
+  return boost_op(a, [](const auto& x) { return boost::numeric::sqrt(x); });
 }
 Interval abs(Interval a) {
   if (a.lo >= 0) return a;
@@ -97,6 +158,7 @@ Interval sin(Interval a) { return periodic<sin_d>(a, std::numbers::pi / 2); }
 Interval cos(Interval a) { return periodic<cos_d>(a, 0); }
 Interval log(Interval a) {
   if (!(a.lo >= 0)) return Interval::entire();  // may be the logarithm of a negative: NaN
+  const ToNearest nearest;
   return {a.lo == 0 ? -kInf : down(std::log(a.lo)), up(std::log(a.hi))};
 }
 Interval hull(Interval a, Interval b) { return {std::min(a.lo, b.lo), std::max(a.hi, b.hi)}; }
@@ -413,6 +475,18 @@ MARCHCHECK_INTERVAL_COMBINATION(smooth_max, -polynomial_smooth_min(-a, -b, k(0))
 MARCHCHECK_INTERVAL_COMBINATION(smooth_subtract, -polynomial_smooth_min(-a, b, k(0)))
 #undef MARCHCHECK_INTERVAL_COMBINATION
 
+// A box's distance is length(max(q, 0)) outside and max_component(q) inside, never both: over a box of points
+// that meets its face the gradient is one side's or the other's (their hull), not their sum, which the
+// arithmetic of the kernel's expression would give (8 for a face of slope 4, at any box size).
+template <>
+DualInterval box_distance<DualInterval>(vec3<DualInterval> q) {
+  const DualInterval outside = length(max(q, DualInterval(0.0))), inside = min(max_component(q), DualInterval(0.0));
+  const Interval corner = max_component(q).v;
+  if (corner.lo > 0) return outside;
+  if (corner.hi <= 0) return inside;
+  return {outside.v + inside.v, hull(outside, inside).d};
+}
+
 // Every other rule above, installed as its kernel's specialisation for both interval types.
 template <class I>
 using Scalar = I;
@@ -542,11 +616,13 @@ I run_intervals(const Tape& tape, std::size_t begin, std::size_t end, vec3<I> p0
 
 template <>
 Interval evaluate<Interval>(const Tape& tape, glm::vec<3, Interval> p) {
+  const Upward upward;
   return run_intervals(tape, 0, tape.code.size(), p);
 }
 
 template <>
 DualInterval evaluate<DualInterval>(const Tape& tape, glm::vec<3, DualInterval> p) {
+  const Upward upward;
   return run_intervals(tape, 0, tape.code.size(), p);
 }
 

@@ -1,6 +1,8 @@
 // The references themselves: exact CSG casting against closed forms, the numerical root finder against both.
 #include "marchcheck/validation/reference.hpp"
 
+#include "marchcheck/march/tolerances.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -63,9 +65,9 @@ TEST(NumericalReference, StepsByFOverLAcrossAThinFeatureOfASteepField) {
   ASSERT_NEAR(sdf::derive_info(slab, 0).lipschitz, 4, 1e-12);
   const Reference ref(slab, 0);
   ASSERT_FALSE(ref.exact());
-  const ReferenceHit h = ref.first_hit({0.3, -1, 0.2}, {0, 1, 0}, 10);
+  const ReferenceHit h = ref.numerical_first_hit({0.3, -1, 0.2}, {0, 1, 0}, 10);
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 0.975, 10 * ref.t_error_bound());  // the slab's near face, y = -0.025
+  EXPECT_NEAR(h.t, 0.975, 10 * march::tolerance::kReferenceBisection);  // the slab's near face, y = -0.025
 }
 
 TEST(NumericalReference, AgreesWithTheExactOneToItsStatedBound) {
@@ -80,7 +82,7 @@ TEST(NumericalReference, AgreesWithTheExactOneToItsStatedBound) {
     const auto a = exact.first_hit(o, dir, 100), b = numerical.first_hit(o, dir, 100);
     ASSERT_EQ(a.hit, b.hit);
     if (a.hit) {
-      EXPECT_NEAR(a.t, b.t, 2 * numerical.t_error_bound());
+      EXPECT_NEAR(a.t, b.t, 2 * numerical.t_error_bound(a.t));
       EXPECT_NEAR(glm::length(a.normal - b.normal), 0, 1e-6);
     }
   }

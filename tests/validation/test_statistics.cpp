@@ -55,6 +55,7 @@ TEST(DefaultLimits, AreTheStatedValues) {
       {"sdf.lipschitz_over_declared", 1.001}, {"march.safe_step_ratio", 1.001},
       {"sdf.overestimate_max", 1e-6}, {"image.pixels_over", 0.02},
       {"camera.fov_err_deg", 1e-6},  {"camera.ray_norm_err", 1e-6},
+      {"sdf.lipschitz_certified_over_declared", 1.001}, {"reference.undecidable", 0.01},
   };
   std::map<std::string, double> actual;
   for (const auto& d : default_limits()) actual[d.metric] = d.limit;

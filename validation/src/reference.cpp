@@ -1,6 +1,9 @@
 #include "marchcheck/validation/reference.hpp"
 
+#include "marchcheck/validation/certified.hpp"
 #include "marchcheck/validation/mesh_reference.hpp"
+
+#include "marchcheck/sdf/interval.hpp"
 
 #include "marchcheck/march/tolerances.hpp"
 
@@ -366,13 +369,43 @@ Spans cast_exact(const Node& node, dvec3 origin, dvec3 direction, double time, c
 }
 
 Reference::Reference(const Node& node, double time)
+    : Reference(node, time, sdf::derive_info(node, time).lipschitz) {}
+
+Reference::Reference(const Node& node, double time, double declared_lipschitz)
     : node_(node), time_(time), meshes_(mesh_references(node)), exact_(exact_supported(node, time)),
       escape_set_(escape_set_of(node, time)),
       parts_(referenced_union_parts(node, time)),
       tape_(sdf::compile(node, time)),
-      lipschitz_(sdf::derive_info(node, time).lipschitz) {}
+      lipschitz_(declared_lipschitz),
+      certified_(!exact_ && !escape_set_ && parts_.empty() && sdf::interval_supported(tape_)) {}
 
-double Reference::t_error_bound() const { return exact_ ? 0 : march::tolerance::kReferenceBisection; }
+ReferenceKind Reference::kind() const {
+  if (exact_) return ReferenceKind::exact;
+  if (escape_set_) return ReferenceKind::escape_time;
+  if (!parts_.empty()) return ReferenceKind::parts;
+  return certified_ ? ReferenceKind::certified : ReferenceKind::numerical;
+}
+
+std::string Reference::judged_by() const {
+  switch (kind()) {
+    case ReferenceKind::exact: return "exact";
+    case ReferenceKind::escape_time: return "escape-time set";
+    case ReferenceKind::certified: return "certified";
+    case ReferenceKind::numerical: return "numerical";
+    case ReferenceKind::parts: break;
+  }
+  std::string out;
+  for (const auto& part : parts_) {
+    const std::string name = part.judged_by();
+    if (out.find(name) == std::string::npos) out += (out.empty() ? "" : " + ") + name;
+  }
+  return out;
+}
+
+double Reference::t_error_bound(double t) const {
+  if (exact_) return 0;
+  return certified_ ? kCertifiedWidth * (1 + t) : march::tolerance::kReferenceBisection;
+}
 
 ReferenceHit Reference::first_hit(dvec3 o, dvec3 d, double t_max) const {
   ReferenceHit out;
@@ -401,7 +434,26 @@ ReferenceHit Reference::first_hit(dvec3 o, dvec3 d, double t_max) const {
     }
     return nearest;
   }
-  // Numerical: steps of f / L can never jump a surface when L bounds the slope; every sign change is bisected.
+  if (!certified_) return numerical_first_hit(o, d, t_max);
+  const CertifiedHit c = certified_first_hit(tape_, o, d, t_max);
+  switch (c.verdict) {
+    case CertifiedHit::Verdict::hit:
+      out.hit = c.t <= t_max;
+      out.t = c.t;
+      out.normal = c.normal;
+      return out;
+    case CertifiedHit::Verdict::inside: out.inside = true; return out;
+    case CertifiedHit::Verdict::miss: return out;
+    case CertifiedHit::Verdict::undecidable: break;
+  }
+  out = numerical_first_hit(o, d, t_max);
+  out.undecided = true;
+  return out;
+}
+
+ReferenceHit Reference::numerical_first_hit(dvec3 o, dvec3 d, double t_max) const {
+  ReferenceHit out;
+  // Steps of f / L can never jump a surface when L bounds the slope; every sign change is bisected.
   auto f = [&](double t) { return sdf::evaluate(tape_, o + d * t); };
   double t = 0, v = f(0);
   if (v < 0) {

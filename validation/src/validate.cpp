@@ -4,6 +4,8 @@
 #include "marchcheck/march/effects.hpp"
 #include "marchcheck/march/render.hpp"
 #include "marchcheck/march/tolerances.hpp"
+#include "marchcheck/sdf/interval.hpp"
+#include "marchcheck/validation/certified.hpp"
 #include "marchcheck/validation/reference.hpp"
 #include "marchcheck/validation/statistics.hpp"
 
@@ -51,6 +53,11 @@ const std::vector<DefaultLimit>& default_limits() {
        false},
       {"camera.fov_err_deg", 1e-6, "field of view the rays span minus the declared one"},
       {"camera.ray_norm_err", 1e-6, "largest | |direction| - 1 | of the generated rays"},
+      {"sdf.lipschitz_certified_over_declared", 1.001,
+       "Lipschitz constant proven by interval arithmetic where the rays run, over the declared one (above 1: the "
+       "declared one is not proven, or proven understated)"},
+      {"reference.undecidable", 0.01,
+       "fraction of rays the certified reference cannot decide at its width (left out of the hit checks)"},
   };
   return limits;
 }
@@ -139,6 +146,12 @@ struct Offenders {
   }
 };
 
+// The scene's intended tree, else its root stepped by the subject's declared constant where the numerical root
+// finder judges it.
+Reference reference_for(const sdf::Scene& s, const Subject& subject) {
+  return s.intended ? Reference(*s.intended, s.time) : Reference(s.root, s.time, subject.declared.lipschitz);
+}
+
 // What the judges of one scene share: the subject, the reference (the scene's intended tree, else its root),
 // the camera and its march context, and the first offender of each metric.
 struct Judging {
@@ -155,7 +168,7 @@ struct Judging {
   Offenders offenders;
 
   Judging(const sdf::Scene& s, const Subject& subj)
-      : scene(s), subject(subj), ref(s.intended ? *s.intended : s.root, s.time), camera(s.camera, s.width, s.height),
+      : scene(s), subject(subj), ref(reference_for(s, subj)), camera(s.camera, s.width, s.height),
         ctx(march::march_context(camera, subj.declared.lipschitz)), estimate(subj.declared.kind == sdf::Kind::estimate),
         max_dist(std::isfinite(s.march.max_dist) ? s.march.max_dist : 1e6), declared(subj.declared.lipschitz) {}
 
@@ -239,6 +252,7 @@ struct NormalJudge {
 // undecided or over the step limit, and how far agreed hits lie from the surface.
 struct HitJudge {
   int rays = 0, false_hit = 0, false_miss = 0, overshoot = 0, undecided = 0, ambiguous = 0, over_steps = 0;
+  int uncertified = 0, numerical_disagree = 0;  // the certified reference's undecidable rays; the cross-check's
   double ray_norm_err = 0, surface_over_eps = 0, surface_dist_max = 0, evals = 0;
   std::vector<double> t_err;
 
@@ -252,7 +266,12 @@ struct HitJudge {
       ++over_steps;
       j.offenders.first("march.over_max_steps", text);
     }
-    if (r.rh.inside || r.rh.unknown) return std::nullopt;
+    cross_check(j, r);
+    if (r.rh.undecided) {
+      ++uncertified;
+      j.offenders.first("reference.undecidable", text);
+    }
+    if (r.rh.inside || r.rh.unknown || r.rh.undecided) return std::nullopt;
     bool at_edge = false;
     const double band = grazing_band(j, r);
     if (grazing(j, r, band, at_edge)) {
@@ -269,6 +288,20 @@ struct HitJudge {
       j.offenders.first("hit.false_miss", text);
     }
     return std::nullopt;
+  }
+
+  // The numerical reference (steps of f / L) on the rays the certified one decides: where the two differ, in
+  // verdict or in t beyond both bounds, the numerical one trusted a wrong L (or a step jumped a thin feature).
+  void cross_check(Judging& j, const SampledRay& r) {
+    if (j.ref.kind() != ReferenceKind::certified || r.rh.undecided) return;
+    const ReferenceHit n = j.ref.numerical_first_hit(r.ray.origin, r.dn, j.max_dist);
+    const bool differ = n.hit != r.rh.hit || n.inside != r.rh.inside ||
+                        (n.hit && std::abs(n.t - r.rh.t) > j.ref.t_error_bound(r.rh.t) + march::tolerance::kReferenceBisection);
+    if (!differ) return;
+    ++numerical_disagree;
+    j.offenders.first("reference.numerical_disagree", [&] {
+      return r.text() + "; numerical reference " + (n.hit ? "hit at t = " + std::to_string(n.t) : std::string("no hit"));
+    });
   }
 
   // Rays whose neighbours a grazing band away disagree with them are left out.
@@ -304,12 +337,12 @@ struct HitJudge {
     double upper = near.distance;
     // Rounding of the hit point itself is allowed on top of the threshold.
     const double rounding = march::tolerance::hit_point_rounding(j.subject.unit_roundoff, r.ray.origin, t_m);
-    const double allowed = eps_m * r.len + rounding + j.ref.t_error_bound();
+    const double allowed = eps_m * r.len + rounding + j.ref.t_error_bound(rh.t);
     // Within the solid but no farther past the first surface than the hit point's float rounding: rounded
     // across the surface (t's own ulp at t = 100 is 8e-6), not a step through it. A marcher that stops on either
     // side is judged by its depth across the surface (flat at this scale), as a hit outside by its distance.
     const bool just_past = near.inside && rh.hit &&
-                           (std::abs(t_m - rh.t) <= rounding + j.ref.t_error_bound() || j.subject.stops_either_side);
+                           (std::abs(t_m - rh.t) <= rounding + j.ref.t_error_bound(rh.t) || j.subject.stops_either_side);
     if (near.inside && !just_past) upper = 0;  // deeper in the solid: the surface distance is unknown, the hit is wrong
     if (just_past && j.subject.stops_either_side)
       upper = std::min(upper, std::abs(t_m - rh.t) * std::abs(glm::dot(r.dn, rh.normal)));
@@ -365,6 +398,10 @@ struct HitJudge {
     m["march.over_max_steps"] = over_steps;
     m["camera.ray_norm_err"] = ray_norm_err;
     m["cost.march_evals_per_ray"] = rays > 0 ? evals / rays : 0;
+    if (j.ref.kind() == ReferenceKind::certified) {
+      m["reference.undecidable"] = rays > 0 ? static_cast<double>(uncertified) / rays : 0;
+      m["reference.numerical_disagree"] = numerical_disagree;
+    }
   }
 };
 
@@ -506,16 +543,48 @@ std::vector<glm::dvec2> sampled_pixels(const sdf::Scene& scene, const ValidateOp
 
 namespace {
 
+// The declared Lipschitz constant proven, or shown understated, over the box that holds the camera and the
+// surface points it sees (so every primary ray up to its hit), for fields the certified reference judges.
+void certify_field(Judging& j, const std::vector<dvec3>& surface_points, std::map<std::string, double>& m) {
+  if (j.ref.kind() != ReferenceKind::certified || surface_points.empty() || j.estimate) return;
+  const sdf::Tape tape = sdf::compile(j.scene.root, j.scene.time);
+  if (!sdf::interval_supported(tape)) return;
+  dvec3 lo = j.camera.ray(0.5 * j.scene.width, 0.5 * j.scene.height).origin, hi = lo;
+  for (const dvec3 p : surface_points) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const double target = 1.001 * j.declared;
+  const CertifiedLipschitz c = certify_lipschitz(tape, lo, hi, target);
+  m["sdf.lipschitz_certified"] = c.upper;
+  m["sdf.lipschitz_proven_lower"] = c.lower;
+  m["sdf.lipschitz_certified_over_declared"] = c.upper / j.declared;
+  m["sdf.lipschitz_certified_boxes"] = c.boxes;
+  if (c.upper <= target) return;
+  std::ostringstream out;
+  out << std::setprecision(6);
+  if (c.lower > j.declared) {
+    out << "understated: the slope is at least " << c.lower << " near " << vec_text(c.lower_at);
+  } else {
+    out << "not proven: the bound stays " << c.upper << " over a box of diagonal " << c.steepest_size << " at "
+        << vec_text(c.steepest) << " (" << c.unproven << " such boxes)";
+  }
+  j.offenders.first("sdf.lipschitz_certified_over_declared", [&] { return out.str(); });
+}
+
 // Every judge over the scene's grid of primary rays.
 void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOptions& opt,
-             std::map<std::string, double>& m, std::map<std::string, std::string>& offender_text) {
+             std::map<std::string, double>& m, std::map<std::string, std::string>& offender_text,
+             std::string& reference) {
   Judging j(scene, subject);
   HitJudge hits;
   NormalJudge normals(static_cast<bool>(subject.normal));  // else judged when the marcher gives a normal
   ShadowJudge shadows;
   std::vector<std::pair<dvec3, double>> surface_points;  // reference hits and their distance, for the field
+  std::vector<dvec3> reference_hits;                     // every ray's, for the region the rays traverse
   for (const glm::dvec2 pixel : sampled_pixels(scene, opt)) {
     const SampledRay r = sample_ray(j, pixel.x, pixel.y);
+    if (r.rh.hit && !r.rh.undecided) reference_hits.push_back(r.ray.origin + r.dn * r.rh.t);
     const std::optional<AgreedHit> agreed = hits.judge(j, r, normals);
     if (!agreed) continue;
     if (agreed->n_m) normals.angle_to_reference(j.offenders, r, *agreed->n_m, agreed->at_edge);
@@ -528,6 +597,8 @@ void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOpti
   if (scene.camera.model == sdf::CameraModel::pinhole || scene.camera.model == sdf::CameraModel::frustum)
     m["camera.fov_err_deg"] = std::abs(j.camera.measured_vertical_fov_deg() - scene.camera.fov_deg);
   judge_field(j, surface_points, hits.ray_norm_err, m);
+  certify_field(j, reference_hits, m);
+  reference = j.ref.judged_by();
   for (const auto& [metric, offender] : j.offenders.by_metric) offender_text[metric] = offender.second;
   offender_text["march.safe_step_ratio"] = offender_text["sdf.lipschitz_over_declared"];
 }
@@ -609,7 +680,7 @@ SceneResult judge(const sdf::Scene& scene, const Subject& subject, const Validat
   SceneResult r;
   r.scene = scene.name;
   r.defects = scene.defects;
-  measure(scene, subject, options, r.metrics, r.offenders);
+  measure(scene, subject, options, r.metrics, r.offenders, r.reference);
   if (images && options.image_width > 0) {
     ImagePair pair = render_image_pair(scene, options.image_width,
                                        options.keep_images ? std::vector{march::Aov::steps} : std::vector<march::Aov>{});
@@ -637,7 +708,7 @@ SceneResult validate_subject(const sdf::Scene& scene, const Subject& subject, co
 
 void print_checks(const SceneResult& r, std::ostream& out) {
   out << r.scene << (r.defects.empty() ? "" : "  (reproduces a seed defect)") << ": " << (r.pass() ? "PASS" : "FAIL")
-      << "\n";
+      << "  (reference: " << r.reference << ")\n";
   out << "  " << std::left << std::setw(30) << "check" << std::right << std::setw(13) << "value" << std::setw(13)
       << "limit" << "  result  limit from\n";
   for (const auto& c : r.checks) {

@@ -44,7 +44,7 @@ void thin_rays(Run& r, const sdf::Node& node, double x0, double x1, double y, do
     const double err = std::abs(double(rec.t) - exact.t);
     worst = std::max(worst, err);
     // hit_eps / cos, plus the reference's own bound and float rounding at |p| <= 4 (1e-6).
-    t_off += !(err <= ms.hit_eps / std::max(-glm::dot(d, exact.normal), 0.05) + ref.t_error_bound() + 1e-6);
+    t_off += !(err <= ms.hit_eps / std::max(-glm::dot(d, exact.normal), 0.05) + ref.t_error_bound(exact.t) + 1e-6);
   }
   r.m["rays"] = 21;
   r.m["hits"] = hits;

@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace marchcheck::validation {
@@ -45,6 +46,9 @@ struct ReferenceHit {
   bool hit = false;
   bool inside = false;  // the origin is inside the solid
   bool unknown = false;  // the numerical reference ran out of steps: no verdict
+  // The certified reference could not decide this ray at its width (certified.hpp): the answer is the numerical
+  // reference's, which trusts the declared Lipschitz constant. Judges leave such rays out and count them.
+  bool undecided = false;
   double t = 0;
   glm::dvec3 normal{0};  // outward
 };
@@ -75,17 +79,31 @@ class EscapeTimeSet {
   int iterations_;
 };
 
+// Which reference judges a field.
+enum class ReferenceKind { exact, escape_time, certified, numerical, parts };
+
 class Reference {
  public:
   // Exact casting when the tree allows it; a Mandelbulb (moved rigidly, scaled uniformly) by its escape-time
-  // set, also as a part of a union whose other parts cast exactly; else the numerical root finder
-  // on the compiled field in double with steps f / L (L the declared bound) and bisection of every sign change
-  // to 1e-9.
+  // set, also as a part of a union whose other parts cast exactly; else the certified first hit by interval
+  // arithmetic (certified.hpp), with the numerical root finder (steps f / L on the compiled field in double, L
+  // the declared bound, every sign change bisected to 1e-9) where it cannot decide and for fields without
+  // interval rules (GLSL).
   Reference(const sdf::Node& node, double time);
+  // The same, with the numerical root finder stepping by the constant a subject declares (a user's own field
+  // or marcher may claim another than the tree's rules derive): what it trusts, the certified reference does not.
+  Reference(const sdf::Node& node, double time, double declared_lipschitz);
   ReferenceHit first_hit(glm::dvec3 origin, glm::dvec3 direction, double t_max) const;
+  // The numerical root finder alone, the cheap cross-check of the certified reference (the whole first_hit
+  // where the reference is not certified).
+  ReferenceHit numerical_first_hit(glm::dvec3 origin, glm::dvec3 direction, double t_max) const;
   bool exact() const { return exact_; }
-  // Error bound on t where the reference finds a surface (0 for the exact one).
-  double t_error_bound() const;
+  ReferenceKind kind() const;
+  // What judged the field, in words: "exact", "escape-time set", "certified", "numerical", or a union's parts'
+  // joined by " + ".
+  std::string judged_by() const;
+  // Error bound on t where the reference finds a surface at t (0 for the exact one).
+  double t_error_bound(double t) const;
 
  private:
   sdf::Node node_;
@@ -96,6 +114,7 @@ class Reference {
   std::vector<Reference> parts_;
   sdf::Tape tape_;
   double lipschitz_;
+  bool certified_;  // the numerical case, with interval rules for every instruction
 };
 
 // The nearest reference surface found from a point so far: an upper bound on its distance to the surface.

@@ -36,6 +36,8 @@ ImagePair render_image_pair(const sdf::Scene& scene, int width, const std::vecto
 struct SceneResult {
   std::string scene;
   std::vector<std::string> defects;
+  // What judged the hits (Reference::judged_by): exact, escape-time set, certified, numerical, or parts'.
+  std::string reference;
   std::map<std::string, double> metrics;
   std::vector<Check> checks;
   std::vector<std::string> not_checked;  // metrics with a default limit this scene's kind is not held to

@@ -1,0 +1,104 @@
+// The certified reference and the certified Lipschitz constant on a field whose constant is understated: a slab
+// 0.05 thick seen through a squash that makes its field 4-Lipschitz, marched as if it were 2-Lipschitz (half the
+// true constant). Steps of f / 2 from below jump the slab. The broken variant the certified reference replaces,
+// the L-stepping numerical reference trusting the same 2, jumps it too and would call every such miss right.
+#include "marchcheck/validation/certified.hpp"
+#include "marchcheck/validation/reference.hpp"
+#include "marchcheck/validation/validate.hpp"
+
+#include "marchcheck/march/camera.hpp"
+#include "marchcheck/march/marcher.hpp"
+#include "marchcheck/march/render.hpp"
+#include "marchcheck/sdf/interval.hpp"
+
+#include <gtest/gtest.h>
+
+namespace marchcheck::validation {
+namespace {
+
+using glm::dvec3;
+
+constexpr double kTrueL = 4, kUnderstated = 2;
+
+sdf::Node thin_slab() {
+  return sdf::make(sdf::Op::affine, {{"model", {1, 0, 0, 0, 0, 0.25, 0, 0, 0, 0, 1, 0}}}, {sdf::box({2, 0.1, 2})});
+}
+
+// Looking up at the slab (|y| < 0.025) from y = -3, marched by steps of f / L with the subject's L.
+sdf::Scene slab_scene() {
+  sdf::Scene s;
+  s.name = "thin-slab";
+  s.root = thin_slab();
+  s.camera.position = {0, -3, 0.01};
+  s.camera.target = {0, 0, 0};
+  s.camera.up = {0, 0, 1};
+  s.camera.fov_deg = 40;
+  s.width = 160;
+  s.height = 90;
+  s.march.marcher = sdf::Marcher::scaled;
+  s.march.max_dist = 10;
+  s.march.hit_eps = 1e-4;
+  s.lights.clear();
+  return s;
+}
+
+// The scene's own subject, declaring and marching with the understated constant.
+Subject understated_subject(const sdf::Scene& s) {
+  Subject subject = scene_subject(s);
+  subject.declared.lipschitz = kUnderstated;
+  const auto tape = std::make_shared<const sdf::Tape>(sdf::compile(s.root, s.time));
+  const march::MarchContext ctx = march::march_context(march::Camera(s.camera, s.width, s.height), kUnderstated);
+  const sdf::MarchSettings settings = s.march;
+  subject.march = [tape, ctx, settings](dvec3 o, dvec3 d) {
+    const auto r = march::march<double>(march::TapeField{tape.get()}, o, d, settings, ctx);
+    return MarchedRay{r.outcome, r.t, r.evals, std::nullopt};
+  };
+  subject.visibility = nullptr;
+  return subject;
+}
+
+TEST(CertifiedReference, FindsTheThinSlabThatStepsByAnUnderstatedConstantJump) {
+  ASSERT_NEAR(sdf::derive_info(thin_slab(), 0).lipschitz, kTrueL, 1e-12);
+  const dvec3 o(0.3, -1, 0.2), up(0, 1, 0);
+  const CertifiedHit c = certified_first_hit(sdf::compile(thin_slab()), o, up, 10);
+  ASSERT_EQ(c.verdict, CertifiedHit::Verdict::hit);
+  // The slab's lower face is at y = -0.025: t = 0.975, inside the certified bracket of width <= 1e-7 (1 + t).
+  EXPECT_LE(c.t_lo, 0.975);
+  EXPECT_GE(c.t_hi, 0.975);
+  EXPECT_LE(c.t_hi - c.t_lo, kCertifiedWidth * (1 + c.t_lo));
+  // The broken variant: the numerical reference stepping by the understated 2 goes from y = -1 to 0.95.
+  const Reference trusting(thin_slab(), 0, kUnderstated);
+  EXPECT_FALSE(trusting.numerical_first_hit(o, up, 10).hit);
+  EXPECT_TRUE(trusting.first_hit(o, up, 10).hit);  // certified: the constant is not trusted
+}
+
+TEST(CertifiedReference, AMarcherTrustingAnUnderstatedConstantIsCaughtAndTheConstantExposed) {
+  const sdf::Scene s = slab_scene();
+  ValidateOptions options;
+  options.rays_x = 16;
+  options.rays_y = 9;
+  const SceneResult r = validate_subject(s, understated_subject(s), options);
+  EXPECT_EQ(r.reference, "certified");
+  // Every ray the camera casts crosses the slab at |x|, |z| < 2: each jumps it, each is a false miss.
+  EXPECT_EQ(metric_value(r.metrics, "hit.false_miss"), 144);
+  // The numerical reference, trusting the 2, misses as the marcher does: it disagrees on every ray.
+  EXPECT_EQ(metric_value(r.metrics, "reference.numerical_disagree"), 144);
+  EXPECT_EQ(metric_value(r.metrics, "reference.undecidable"), 0);
+  // The certified bound over the camera's region is at least the true 4 (the slab's gradient), and the proven
+  // slope (a difference quotient with interval values) exceeds the declared 2: understated, not just unproven.
+  EXPECT_GE(metric_value(r.metrics, "sdf.lipschitz_certified"), kTrueL);
+  EXPECT_GT(metric_value(r.metrics, "sdf.lipschitz_proven_lower"), kUnderstated);
+  EXPECT_GT(metric_value(r.metrics, "sdf.lipschitz_certified_over_declared"), 1.001);
+  EXPECT_NE(r.offenders.at("sdf.lipschitz_certified_over_declared").find("understated"), std::string::npos);
+}
+
+// Declared at its true 4, the same field's constant is proven (the bound over every box at most 4.004).
+TEST(CertifiedLipschitz, ProvesTheTrueConstantOverTheRegion) {
+  const CertifiedLipschitz c = certify_lipschitz(sdf::compile(thin_slab()), {-1, -3, -1}, {1, 0.5, 1}, 1.001 * kTrueL);
+  EXPECT_EQ(c.unproven, 0);
+  EXPECT_LE(c.upper, 1.001 * kTrueL);
+  EXPECT_GE(c.upper, kTrueL);  // no box can bound the slab's slope below its true value
+}
+
+}  // namespace
+}  // namespace marchcheck::validation
