@@ -170,32 +170,70 @@ glm::vec<3, Interval> hull(glm::vec<3, Interval> a, glm::vec<3, Interval> b) {
 }
 const glm::vec<3, Interval> kAnyGradient(Interval::entire());
 
+// The largest |x| over a, and the smallest.
+double magnitude(Interval a) { return std::max(std::abs(a.lo), std::abs(a.hi)); }
+double mignitude(Interval a) { return a.contains(0) ? 0 : std::min(std::abs(a.lo), std::abs(a.hi)); }
+// x y and x / y rounded up, for the length bounds.
+double times_up(double x, double y) { return (Interval(x) * Interval(y)).hi; }
+double over_up(double x, double y) { return y > 0 ? (Interval(x) / Interval(y)).hi : kInf; }
+
 }  // namespace
 
+double norm_bound(const glm::vec<3, Interval>& g) {
+  Interval s = square(Interval(magnitude(g.x)));
+  s += square(Interval(magnitude(g.y)));
+  s += square(Interval(magnitude(g.z)));
+  return sqrt(s).hi;
+}
+
+DualInterval& DualInterval::operator+=(DualInterval b) { return *this = *this + b; }
+DualInterval& DualInterval::operator-=(DualInterval b) { return *this = *this - b; }
+DualInterval& DualInterval::operator*=(DualInterval b) { return *this = *this * b; }
+DualInterval& DualInterval::operator/=(DualInterval b) { return *this = *this / b; }
+
+DualInterval operator+(DualInterval a, DualInterval b) { return {a.v + b.v, a.d + b.d, (Interval(a.n) + Interval(b.n)).hi}; }
+DualInterval operator-(DualInterval a, DualInterval b) { return {a.v - b.v, a.d - b.d, (Interval(a.n) + Interval(b.n)).hi}; }
+DualInterval operator-(DualInterval a) { return {-a.v, -a.d, a.n}; }
+DualInterval operator*(DualInterval a, DualInterval b) {
+  return {a.v * b.v, a.d * b.v + b.d * a.v, (Interval(times_up(a.n, magnitude(b.v))) + Interval(times_up(b.n, magnitude(a.v)))).hi};
+}
+DualInterval operator/(DualInterval a, DualInterval b) {
+  const double numerator = (Interval(times_up(a.n, magnitude(b.v))) + Interval(times_up(b.n, magnitude(a.v)))).hi;
+  return {a.v / b.v, (a.d * b.v - b.d * a.v) / (b.v * b.v), over_up(numerator, times_up(mignitude(b.v), mignitude(b.v)))};
+}
 DualInterval sqrt(DualInterval a) {
   const Interval s = sqrt(a.v);
-  return {s, s.lo > 0 ? a.d * (Interval(0.5) / s) : kAnyGradient};
+  if (!(s.lo > 0)) return {s, kAnyGradient, kInf};
+  return {s, a.d * (Interval(0.5) / s), over_up(a.n, times_up(2, s.lo))};
 }
 DualInterval abs(DualInterval a) {
   if (a.v.lo >= 0) return a;
   if (a.v.hi <= 0) return -a;
-  return {abs(a.v), hull(a.d, -a.d)};
+  return {abs(a.v), hull(a.d, -a.d), a.n};
 }
 DualInterval min(DualInterval a, DualInterval b) {
   if (a.v.hi <= b.v.lo) return a;
   if (b.v.hi <= a.v.lo) return b;
-  return {min(a.v, b.v), hull(a.d, b.d)};
+  return {min(a.v, b.v), hull(a.d, b.d), std::max(a.n, b.n)};
 }
 DualInterval max(DualInterval a, DualInterval b) {
   if (a.v.hi <= b.v.lo) return b;
   if (b.v.hi <= a.v.lo) return a;
-  return {max(a.v, b.v), hull(a.d, b.d)};
+  return {max(a.v, b.v), hull(a.d, b.d), std::max(a.n, b.n)};
 }
 DualInterval floor(DualInterval a) { return DualInterval(floor(a.v)); }
 DualInterval sign(DualInterval a) { return DualInterval(sign(a.v)); }
-DualInterval sin(DualInterval a) { return {sin(a.v), a.d * cos(a.v)}; }
-DualInterval cos(DualInterval a) { return {cos(a.v), a.d * -sin(a.v)}; }
-DualInterval hull(DualInterval a, DualInterval b) { return {hull(a.v, b.v), hull(a.d, b.d)}; }
+DualInterval sin(DualInterval a) {
+  const Interval c = cos(a.v);
+  return {sin(a.v), a.d * c, times_up(a.n, magnitude(c))};
+}
+DualInterval cos(DualInterval a) {
+  const Interval s = sin(a.v);
+  return {cos(a.v), a.d * -s, times_up(a.n, magnitude(s))};
+}
+DualInterval hull(DualInterval a, DualInterval b) {
+  return {hull(a.v, b.v), hull(a.d, b.d), std::max(a.n, b.n)};
+}
 
 glm::vec<3, DualInterval> seeded(glm::vec<3, Interval> box) {
   return {DualInterval(box.x, {1.0, 0.0, 0.0}), DualInterval(box.y, {0.0, 1.0, 0.0}),
@@ -217,7 +255,7 @@ Interval value_part(DualInterval a) { return a.v; }
 
 // The value restricted to [lo, hi] (the part of a box in one cell), its gradient kept.
 Interval within(Interval a, double lo, double hi) { return {std::max(a.lo, lo), std::min(a.hi, hi)}; }
-DualInterval within(DualInterval a, double lo, double hi) { return {within(a.v, lo, hi), a.d}; }
+DualInterval within(DualInterval a, double lo, double hi) { return {within(a.v, lo, hi), a.d, a.n}; }
 
 // Nothing provable: any value, any gradient.
 template <class I>
@@ -330,7 +368,7 @@ I mesh(const Args<I>& k, vec3<I> p) {
   } else {
     // The distance's gradient is a unit vector: each component within [-1, 1].
     const Interval unit(-1, 1);
-    return {value, p.x.d * unit + p.y.d * unit + p.z.d * unit};
+    return {value, p.x.d * unit + p.y.d * unit + p.z.d * unit, jacobian_bound(p)};
   }
 }
 
@@ -398,7 +436,7 @@ I repeat_axis(I p, double c, double n) {
   if constexpr (std::is_same_v<I, Interval>) {
     return local;
   } else {
-    return {local, p.d};
+    return {local, p.d, p.n};
   }
 }
 
@@ -428,7 +466,7 @@ I value_noise(I x, I z) {
       return {0, 1};
     } else {
       const Interval slope(-1.5, 1.5);
-      return {Interval(0, 1), x.d * slope + z.d * slope};
+      return {Interval(0, 1), x.d * slope + z.d * slope, 1.5 * (x.n + z.n) * (1 + 1e-15)};
     }
   }
   auto smoothstep = [](I t) {
@@ -437,7 +475,8 @@ I value_noise(I x, I z) {
     if constexpr (std::is_same_v<I, Interval>) {
       return v;
     } else {
-      return I(v, t.d * (Interval(6) * tv * (Interval(1) - tv)));
+      const Interval slope = Interval(6) * tv * (Interval(1) - tv);
+      return I(v, t.d * slope, (Interval(t.n) * Interval(std::max(std::abs(slope.lo), std::abs(slope.hi)))).hi);
     }
   };
   I out(0.0);
@@ -456,6 +495,14 @@ I value_noise(I x, I z) {
 }
 
 }  // namespace interval_rules
+
+// A polynomial smooth minimum's gradient is a convex combination of its operands' (weights 1 - h/2 and h/2):
+// within their hull and no longer than the longer, which its own arithmetic cannot see.
+template <>
+DualInterval polynomial_smooth_min<DualInterval>(DualInterval a, DualInterval b, DualInterval k) {
+  const DualInterval either = hull(a, b);
+  return {polynomial_smooth_min(a.v, b.v, k.v), either.d, either.n};
+}
 
 // The combinations' values as their kernels compute them; the material is no interval's concern.
 #define MARCHCHECK_INTERVAL_COMBINATION(name, expression)                                \
@@ -484,7 +531,20 @@ DualInterval box_distance<DualInterval>(vec3<DualInterval> q) {
   const Interval corner = max_component(q).v;
   if (corner.lo > 0) return outside;
   if (corner.hi <= 0) return inside;
-  return {outside.v + inside.v, hull(outside, inside).d};
+  const DualInterval either = hull(outside, inside);
+  return {outside.v + inside.v, either.d, either.n};
+}
+
+// A displacement's term a sin(f x) sin(f y) sin(f z) has a gradient of length at most |a f| (|grad| of the
+// product of sines is at most 1: its square, with A = sin^2 f x etc., is AB + BC + CA - 3ABC <= 1 on [0, 1]^3)
+// times the point's Jacobian: the box of its gradient over a box of the point wider than its period reaches
+// sqrt 3 times that.
+template <>
+DualInterval displace<DualInterval>(const Args<DualInterval>& k, DualInterval d, vec3<DualInterval> p) {
+  const DualInterval f = k(1);
+  const DualInterval r = d + k(0) * sin(f * p.x) * sin(f * p.y) * sin(f * p.z);
+  const double term = (Interval(std::abs(k.raw(0))) * Interval(std::abs(k.raw(1))) * Interval(jacobian_bound(p))).hi;
+  return {r.v, r.d, std::min(r.n, (Interval(d.n) + Interval(term)).hi)};
 }
 
 // Every other rule above, installed as its kernel's specialisation for both interval types.

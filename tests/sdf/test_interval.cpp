@@ -30,7 +30,7 @@ glm::dvec3 gradient(const Tape& tape, glm::dvec3 p) {
   return evaluate(tape, glm::vec<3, D>(D(p.x, {1, 0, 0}), D(p.y, {0, 1, 0}), D(p.z, {0, 0, 1}))).d;
 }
 
-// The first sample of a box whose value or gradient its intervals miss, or "".
+// The first sample of a box whose value, gradient or gradient length its intervals miss, or "".
 std::string first_escape(const Tape& tape, const Box& box, std::mt19937& rng) {
   const Interval f = evaluate(tape, box);
   const DualInterval g = evaluate(tape, seeded(box));
@@ -60,6 +60,9 @@ std::string first_escape(const Tape& tape, const Box& box, std::mt19937& rng) {
       if (std::isfinite(d[i]) && !holds(g.d[i], d[i]))
         out << "gradient " << i << " = " << d[i] << " at (" << p.x << ", " << p.y << ", " << p.z << ") outside ["
             << g.d[i].lo << ", " << g.d[i].hi << "]";
+    if (out.str().empty() && std::isfinite(glm::length(d)) && !holds(Interval(0, g.n), glm::length(d)))
+      out << "gradient length " << glm::length(d) << " at (" << p.x << ", " << p.y << ", " << p.z << ") over its bound "
+          << g.n;
     if (!out.str().empty()) return out.str();
   }
   return "";
@@ -126,6 +129,19 @@ TEST(Interval, ALimitedRepetitionHoldsItsEndCellsRunningOn) {
   EXPECT_GE(evaluate(tape, box).hi, 3.7);
   std::mt19937 rng(4);
   EXPECT_EQ(first_escape(tape, box, rng), "");
+}
+
+// A displacement read at a stretched point (a scale by 1/2 inside: the point doubled) is twice as steep as
+// at the point itself; its gradient bound must follow the stretch.
+TEST(Interval, ADisplacementOfAStretchedPointBoundsItsGradient) {
+  const Node node = make(Op::scale, {{"factor", {0.5}}}, {example(Op::displace)});
+  const Tape tape = compile(node);
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int b = 0; b < 200; ++b) {
+    const glm::dvec3 centre(2 * u(rng) - 1, 2 * u(rng) - 1, 2 * u(rng) - 1);
+    ASSERT_EQ(first_escape(tape, box_around(centre, glm::dvec3(std::pow(10.0, -3 * u(rng)))), rng), "");
+  }
 }
 
 // sin and cos on intervals that hold a maximum, a minimum, both, or neither, and far from 0.

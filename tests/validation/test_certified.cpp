@@ -72,6 +72,18 @@ TEST(CertifiedReference, FindsTheThinSlabThatStepsByAnUnderstatedConstantJump) {
   EXPECT_TRUE(trusting.first_hit(o, up, 10).hit);  // certified: the constant is not trusted
 }
 
+// A ray that starts on a plane and runs along it (f = 0 all the way, to rounding) cannot be decided: the
+// reference says so, and the numerical answer that stands in for it is marked as such.
+TEST(CertifiedReference, ARayAlongTheSurfaceIsUndecidableAndSaysSo) {
+  const sdf::Node field = sdf::smooth_union(1e-6, {sdf::plane({0, 1, 0}, 0), sdf::translate({100, 0, 0}, sdf::sphere(0.1))});
+  const Reference ref(field, 0);
+  ASSERT_EQ(ref.kind(), ReferenceKind::certified);
+  EXPECT_EQ(certified_first_hit(sdf::compile(field), {0, 0, 0}, {1, 0, 0}, 10).verdict,
+            CertifiedHit::Verdict::undecidable);
+  EXPECT_TRUE(ref.first_hit({0, 0, 0}, {1, 0, 0}, 10).undecided);
+  EXPECT_FALSE(ref.first_hit({0, 1, 0}, {0, -1, 0}, 10).undecided);  // straight down onto it: decided
+}
+
 TEST(CertifiedReference, AMarcherTrustingAnUnderstatedConstantIsCaughtAndTheConstantExposed) {
   const sdf::Scene s = slab_scene();
   ValidateOptions options;
@@ -92,12 +104,21 @@ TEST(CertifiedReference, AMarcherTrustingAnUnderstatedConstantIsCaughtAndTheCons
   EXPECT_NE(r.offenders.at("sdf.lipschitz_certified_over_declared").find("understated"), std::string::npos);
 }
 
-// Declared at its true 4, the same field's constant is proven (the bound over every box at most 4.004).
-TEST(CertifiedLipschitz, ProvesTheTrueConstantOverTheRegion) {
-  const CertifiedLipschitz c = certify_lipschitz(sdf::compile(thin_slab()), {-1, -3, -1}, {1, 0.5, 1}, 1.001 * kTrueL);
+// Declared at its true 4, the same field's constant is proven along rays through the slab, past its edge and
+// along its face (the bound over every piece at most 4.004); at 2 it is not, and the slope proves why.
+TEST(CertifiedLipschitz, ProvesTheTrueConstantAlongRaysAndShowsAnUnderstatedOneUnderstated) {
+  const std::vector<RayPath> paths = {{{0.3, -1, 0.2}, {0, 1, 0}, 3},
+                                      {{-3, -1, 0}, glm::normalize(dvec3(1, 0.4, 0.1)), 8},
+                                      {{-3, -0.03, 0.5}, {1, 0, 0}, 6}};
+  const sdf::Tape tape = sdf::compile(thin_slab());
+  const CertifiedLipschitz c = certify_lipschitz(tape, paths, 1.001 * kTrueL);
   EXPECT_EQ(c.unproven, 0);
   EXPECT_LE(c.upper, 1.001 * kTrueL);
-  EXPECT_GE(c.upper, kTrueL);  // no box can bound the slab's slope below its true value
+  EXPECT_GE(c.upper, kTrueL);  // no piece through the slab can bound its slope below the true value
+  const CertifiedLipschitz under = certify_lipschitz(tape, paths, 1.001 * kUnderstated);
+  EXPECT_GT(under.unproven, 0);
+  EXPECT_GT(under.lower, kUnderstated);
+  EXPECT_LE(under.lower, kTrueL * (1 + 1e-9));  // a proven slope never exceeds the true constant
 }
 
 }  // namespace

@@ -94,72 +94,60 @@ CertifiedHit certified_first_hit(const sdf::Tape& tape, glm::dvec3 o, glm::dvec3
 
 namespace {
 
-struct Box {
-  glm::dvec3 lo, hi;
-  glm::vec<3, Interval> intervals() const {
-    return {Interval(lo.x, hi.x), Interval(lo.y, hi.y), Interval(lo.z, hi.z)};
-  }
-  double diagonal() const { return glm::length(hi - lo); }
-};
-
-// An upper bound on |g| for every g in the gradient's box.
-double norm_bound(const glm::vec<3, Interval>& g) {
-  Interval s = square(Interval(std::max(std::abs(g.x.lo), std::abs(g.x.hi))));
-  s += square(Interval(std::max(std::abs(g.y.lo), std::abs(g.y.hi))));
-  s += square(Interval(std::max(std::abs(g.z.lo), std::abs(g.z.hi))));
-  return sqrt(s).hi;
-}
-
-// A proven slope of f across the box: the difference quotient along the gradient at its centre, over a step of
-// a tenth of the box, with the values' intervals (the distance rounded down).
-double proven_slope(const sdf::Tape& tape, const Box& b, glm::dvec3& at) {
-  const glm::dvec3 c = 0.5 * (b.lo + b.hi);
+// A proven slope of f along the piece [a, b] of a ray: the difference quotient along the gradient at its
+// middle, over a step of a tenth of the piece, with the values' intervals (the distance rounded up).
+double proven_slope(const sdf::Tape& tape, glm::dvec3 c, double length, glm::dvec3& at) {
   using D = sdf::Dual<double>;
   const glm::dvec3 g = sdf::evaluate(tape, glm::vec<3, D>(D(c.x, {1, 0, 0}), D(c.y, {0, 1, 0}), D(c.z, {0, 0, 1}))).d;
   if (!(glm::length(g) > 0)) return 0;
-  const glm::dvec3 a = c, e = c + glm::normalize(g) * (0.1 * b.diagonal());
+  const glm::dvec3 e = c + glm::normalize(g) * (0.1 * length);
   auto point = [](glm::dvec3 p) { return glm::vec<3, Interval>(Interval(p.x), Interval(p.y), Interval(p.z)); };
-  const Interval rise = abs(sdf::evaluate(tape, point(e)) - sdf::evaluate(tape, point(a)));
-  const double run = std::nextafter(glm::length(e - a), std::numeric_limits<double>::infinity());
+  const Interval rise = abs(sdf::evaluate(tape, point(e)) - sdf::evaluate(tape, point(c)));
+  const double run = std::nextafter(glm::length(e - c), std::numeric_limits<double>::infinity());
   at = c;
   return rise.lo / run;
 }
 
 }  // namespace
 
-CertifiedLipschitz certify_lipschitz(const sdf::Tape& tape, glm::dvec3 lo, glm::dvec3 hi, double target, int budget) {
+CertifiedLipschitz certify_lipschitz(const sdf::Tape& tape, const std::vector<RayPath>& paths, double target,
+                                     int budget) {
   CertifiedLipschitz out;
-  const double smallest = glm::length(hi - lo) / 256;
-  std::vector<Box> work{{lo, hi}};
-  while (!work.empty()) {
-    const Box b = work.back();
-    work.pop_back();
-    const double bound = norm_bound(sdf::evaluate(tape, sdf::seeded(b.intervals())).d);
-    ++out.boxes;
-    const bool final = bound <= target || b.diagonal() <= smallest || out.boxes + 2 * static_cast<int>(work.size()) >= budget;
-    if (!final) {
-      const glm::dvec3 size = b.hi - b.lo;
-      const int axis = size.x >= size.y && size.x >= size.z ? 0 : (size.y >= size.z ? 1 : 2);
-      Box left = b, right = b;
-      left.hi[axis] = right.lo[axis] = 0.5 * (b.lo[axis] + b.hi[axis]);
-      work.push_back(left);
-      work.push_back(right);
-      continue;
-    }
-    if (bound > out.upper) {
-      out.upper = bound;
-      out.steepest = 0.5 * (b.lo + b.hi);
-      out.steepest_size = b.diagonal();
-    }
-    if (bound > target) {
-      ++out.unproven;
-      glm::dvec3 at;
-      const double slope = proven_slope(tape, b, at);
-      if (slope > out.lower) {
-        out.lower = slope;
-        out.lower_at = at;
+  // Each ray's share of the budget, so that one rough path cannot starve the others.
+  const int per_path = paths.empty() ? 0 : std::max(1, budget / static_cast<int>(paths.size()));
+  for (const RayPath& path : paths) {
+    std::vector<std::pair<double, double>> work{{0, path.t_end}};
+    int spent = 0;
+    while (!work.empty()) {
+      const auto [a, b] = work.back();
+      work.pop_back();
+      const double bound = sdf::evaluate(tape, sdf::seeded(segment(path.origin, path.direction, a, b))).n;
+      ++spent;
+      const bool split = bound > target && b - a > kCertifiedLipschitzPiece * (1 + b) &&
+                         spent + static_cast<int>(work.size()) + 2 <= per_path;
+      if (split) {
+        const double m = 0.5 * (a + b);
+        work.push_back({m, b});
+        work.push_back({a, m});
+        continue;
+      }
+      const glm::dvec3 middle = path.origin + path.direction * (0.5 * (a + b));
+      if (bound > out.upper) {
+        out.upper = bound;
+        out.steepest = middle;
+        out.steepest_length = b - a;
+      }
+      if (bound > target) {
+        ++out.unproven;
+        glm::dvec3 at;
+        const double slope = proven_slope(tape, middle, b - a, at);
+        if (slope > out.lower) {
+          out.lower = slope;
+          out.lower_at = at;
+        }
       }
     }
+    out.boxes += spent;
   }
   return out;
 }

@@ -54,8 +54,8 @@ const std::vector<DefaultLimit>& default_limits() {
       {"camera.fov_err_deg", 1e-6, "field of view the rays span minus the declared one"},
       {"camera.ray_norm_err", 1e-6, "largest | |direction| - 1 | of the generated rays"},
       {"sdf.lipschitz_certified_over_declared", 1.001,
-       "Lipschitz constant proven by interval arithmetic where the rays run, over the declared one (above 1: the "
-       "declared one is not proven, or proven understated)"},
+       "Lipschitz constant proven by interval arithmetic along the primary rays, over the declared one (above 1: "
+       "the declared one is not proven, or proven understated)"},
       {"reference.undecidable", 0.01,
        "fraction of rays the certified reference cannot decide at its width (left out of the hit checks)"},
   };
@@ -543,19 +543,16 @@ std::vector<glm::dvec2> sampled_pixels(const sdf::Scene& scene, const ValidateOp
 
 namespace {
 
-// The declared Lipschitz constant proven, or shown understated, over the box that holds the camera and the
-// surface points it sees (so every primary ray up to its hit), for fields the certified reference judges.
-void certify_field(Judging& j, const std::vector<dvec3>& surface_points, std::map<std::string, double>& m) {
-  if (j.ref.kind() != ReferenceKind::certified || surface_points.empty() || j.estimate) return;
+// The declared Lipschitz constant proven, or shown understated, along every eighth primary ray to its
+// reference hit (or max_dist), for fields the certified reference judges.
+void certify_field(Judging& j, const std::vector<RayPath>& paths, std::map<std::string, double>& m) {
+  if (j.ref.kind() != ReferenceKind::certified || paths.empty() || j.estimate) return;
   const sdf::Tape tape = sdf::compile(j.scene.root, j.scene.time);
   if (!sdf::interval_supported(tape)) return;
-  dvec3 lo = j.camera.ray(0.5 * j.scene.width, 0.5 * j.scene.height).origin, hi = lo;
-  for (const dvec3 p : surface_points) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
+  std::vector<RayPath> sample;
+  for (size_t i = 0; i < paths.size(); i += 8) sample.push_back(paths[i]);
   const double target = 1.001 * j.declared;
-  const CertifiedLipschitz c = certify_lipschitz(tape, lo, hi, target);
+  const CertifiedLipschitz c = certify_lipschitz(tape, sample, target);
   m["sdf.lipschitz_certified"] = c.upper;
   m["sdf.lipschitz_proven_lower"] = c.lower;
   m["sdf.lipschitz_certified_over_declared"] = c.upper / j.declared;
@@ -566,8 +563,8 @@ void certify_field(Judging& j, const std::vector<dvec3>& surface_points, std::ma
   if (c.lower > j.declared) {
     out << "understated: the slope is at least " << c.lower << " near " << vec_text(c.lower_at);
   } else {
-    out << "not proven: the bound stays " << c.upper << " over a box of diagonal " << c.steepest_size << " at "
-        << vec_text(c.steepest) << " (" << c.unproven << " such boxes)";
+    out << "not proven: the bound stays " << c.upper << " over a piece " << c.steepest_length << " long at "
+        << vec_text(c.steepest) << " (" << c.unproven << " such pieces)";
   }
   j.offenders.first("sdf.lipschitz_certified_over_declared", [&] { return out.str(); });
 }
@@ -581,10 +578,10 @@ void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOpti
   NormalJudge normals(static_cast<bool>(subject.normal));  // else judged when the marcher gives a normal
   ShadowJudge shadows;
   std::vector<std::pair<dvec3, double>> surface_points;  // reference hits and their distance, for the field
-  std::vector<dvec3> reference_hits;                     // every ray's, for the region the rays traverse
+  std::vector<RayPath> paths;  // every decided ray's way to its reference hit, or to max_dist
   for (const glm::dvec2 pixel : sampled_pixels(scene, opt)) {
     const SampledRay r = sample_ray(j, pixel.x, pixel.y);
-    if (r.rh.hit && !r.rh.undecided) reference_hits.push_back(r.ray.origin + r.dn * r.rh.t);
+    if (!r.rh.undecided && !r.rh.unknown && !r.rh.inside) paths.push_back({r.ray.origin, r.dn, r.rh.hit ? r.rh.t : j.max_dist});
     const std::optional<AgreedHit> agreed = hits.judge(j, r, normals);
     if (!agreed) continue;
     if (agreed->n_m) normals.angle_to_reference(j.offenders, r, *agreed->n_m, agreed->at_edge);
@@ -597,7 +594,7 @@ void measure(const sdf::Scene& scene, const Subject& subject, const ValidateOpti
   if (scene.camera.model == sdf::CameraModel::pinhole || scene.camera.model == sdf::CameraModel::frustum)
     m["camera.fov_err_deg"] = std::abs(j.camera.measured_vertical_fov_deg() - scene.camera.fov_deg);
   judge_field(j, surface_points, hits.ray_norm_err, m);
-  certify_field(j, reference_hits, m);
+  certify_field(j, paths, m);
   reference = j.ref.judged_by();
   for (const auto& [metric, offender] : j.offenders.by_metric) offender_text[metric] = offender.second;
   offender_text["march.safe_step_ratio"] = offender_text["sdf.lipschitz_over_declared"];

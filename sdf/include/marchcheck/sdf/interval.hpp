@@ -11,6 +11,8 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace marchcheck::sdf {
@@ -63,10 +65,39 @@ Interval length(glm::vec<N, Interval> a) {
   return sqrt(s);
 }
 
+// An upper bound on |g| for every g in the box of vectors g.
+double norm_bound(const glm::vec<3, Interval>& g);
+
 // Value and gradient over a box: the gradient's interval holds the gradient (one-sided ones at kinks) of every
-// point of the box, the basis of a certified Lipschitz bound.
+// point of the box, and n bounds its length. The box of the gradient alone loses what a minimum of two unit
+// gradients keeps (a convex combination of them, of length at most 1, where their box reaches sqrt 2): n
+// follows each operation's own rule (the larger of the two for min, max and smooth minima, sums for sums) and
+// is tightened by the box's length at every step. The basis of a certified Lipschitz bound.
+template <>
+struct Dual<Interval> {
+  Interval v;
+  glm::vec<3, Interval> d;
+  double n;  // an upper bound on the gradient's length over the box
+
+  Dual() = default;
+  Dual(Interval value) : v(value), d(Interval(0.0)), n(0) {}  // NOLINT: constants promote implicitly
+  Dual(double value) : Dual(Interval(value)) {}               // NOLINT
+  Dual(Interval value, glm::vec<3, Interval> grad) : v(value), d(grad), n(norm_bound(grad)) {}
+  Dual(Interval value, glm::vec<3, Interval> grad, double bound)
+      : v(value), d(grad), n(std::min(bound, norm_bound(grad))) {}
+
+  Dual& operator+=(Dual b);
+  Dual& operator-=(Dual b);
+  Dual& operator*=(Dual b);
+  Dual& operator/=(Dual b);
+};
 using DualInterval = Dual<Interval>;
 
+DualInterval operator+(DualInterval a, DualInterval b);
+DualInterval operator-(DualInterval a, DualInterval b);
+DualInterval operator-(DualInterval a);
+DualInterval operator*(DualInterval a, DualInterval b);
+DualInterval operator/(DualInterval a, DualInterval b);
 DualInterval sqrt(DualInterval a);
 DualInterval abs(DualInterval a);
 DualInterval min(DualInterval a, DualInterval b);
@@ -77,7 +108,26 @@ DualInterval sin(DualInterval a);
 DualInterval cos(DualInterval a);
 DualInterval hull(DualInterval a, DualInterval b);
 
-// The gradient of a length is a unit vector: bounded by [-1, 1] per component where the length may be 0.
+// A bound on the spectral norm of the Jacobian whose rows are the gradients of a: the largest eigenvalue of
+// J J^T by Gershgorin's discs, each row's length bound squared plus its products with the other rows (intervals),
+// so orthogonal rows of length 1 (the point itself, a revolution's (radius, height)) give 1.
+template <int N>
+double jacobian_bound(const glm::vec<N, DualInterval>& a) {
+  Interval largest(0.0);
+  for (int i = 0; i < N; ++i) {
+    Interval disc = square(Interval(a[i].n));
+    for (int j = 0; j < N; ++j) {
+      if (j == i) continue;
+      const Interval dot = a[i].d.x * a[j].d.x + a[i].d.y * a[j].d.y + a[i].d.z * a[j].d.z;
+      disc += Interval(std::max(std::abs(dot.lo), std::abs(dot.hi)));
+    }
+    largest = max(largest, disc);
+  }
+  return sqrt(largest).hi;
+}
+
+// The gradient of a length is the Jacobian's transpose times a unit vector: each of its components within
+// [-1, 1] where the length may be 0, and its length at most the Jacobian's norm.
 template <int N>
 DualInterval length(glm::vec<N, DualInterval> a) {
   glm::vec<N, Interval> v;
@@ -89,7 +139,7 @@ DualInterval length(glm::vec<N, DualInterval> a) {
     const Interval unit(std::max(u.lo, -1.0), std::min(u.hi, 1.0));
     d += a[i].d * unit;
   }
-  return {len, d};
+  return {len, d, jacobian_bound(a)};
 }
 
 // The field's range over the box p (each component an interval of coordinates). GLSL fields have no interval

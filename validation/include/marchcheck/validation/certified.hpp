@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <vector>
 
 namespace marchcheck::validation {
 
@@ -35,25 +36,34 @@ inline constexpr std::uint64_t kCertifiedBudget = 200000;
 // Requires sdf::interval_supported(tape). direction: unit length.
 CertifiedHit certified_first_hit(const sdf::Tape& tape, glm::dvec3 origin, glm::dvec3 direction, double t_max);
 
-// A Lipschitz constant proven over a region: the interval of the gradient (sdf::DualInterval) over boxes that
-// cover it, each box halved along its longest side while its bound exceeds the target and it is larger than
-// 1/256 of the region's diagonal, within a budget of box evaluations. The bound over a box holds |grad f| at
-// every point of it where f is differentiable; it is f's Lipschitz constant there where f is continuous (every
-// operator's field is, a repetition's where its child is symmetric across the cell faces).
+// A Lipschitz constant proven along rays: the interval of the gradient's length (sdf::DualInterval::n) over
+// boxes that cover each ray's path from its origin to its end, each piece halved while its bound exceeds the
+// target and it is longer than kCertifiedLipschitzPiece (1 + t), within a budget of box evaluations. The bound
+// over a box holds |grad f| at every point of it where f is differentiable: it is f's Lipschitz constant along
+// the path where f is continuous (every operator's field is; a repetition's where its child is symmetric across
+// the cell faces). What a marcher stepping f / L along those rays needs, and no more: the field far from them
+// may be steeper.
 struct CertifiedLipschitz {
-  double upper = 0;  // max over the final boxes of their bound: a proven Lipschitz constant over the region
-  glm::dvec3 steepest{0};  // the centre of the box with the largest bound
-  double steepest_size = 0;  // and its diagonal
-  // A proven lower bound: the largest |f(a) - f(b)| / |a - b| over pairs across the final boxes (intervals at
-  // both points), so upper >= lower always; lower > declared proves the declared constant understated.
+  double upper = 0;  // max over the final pieces of their bound: a proven Lipschitz constant along the paths
+  glm::dvec3 steepest{0};  // the centre of the piece with the largest bound
+  double steepest_length = 0;  // and its length along its ray
+  // A proven lower bound: the largest |f(a) - f(b)| / |a - b| over pairs at the unproven pieces (intervals at
+  // both points); lower > declared proves the declared constant understated.
   double lower = 0;
   glm::dvec3 lower_at{0};
-  int boxes = 0;      // evaluated
-  int unproven = 0;   // final boxes whose bound stays above the target
+  int boxes = 0;     // evaluated
+  int unproven = 0;  // final pieces whose bound stays above the target
 };
 
+struct RayPath {
+  glm::dvec3 origin, direction;  // direction: unit length
+  double t_end;
+};
+
+inline constexpr double kCertifiedLipschitzPiece = 1e-4;
+
 // Requires sdf::interval_supported(tape). target: the constant to prove (the declared one, with its tolerance).
-CertifiedLipschitz certify_lipschitz(const sdf::Tape& tape, glm::dvec3 lo, glm::dvec3 hi, double target,
-                                     int budget = 20000);
+CertifiedLipschitz certify_lipschitz(const sdf::Tape& tape, const std::vector<RayPath>& paths, double target,
+                                     int budget = 100000);
 
 }  // namespace marchcheck::validation
