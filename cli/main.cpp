@@ -47,6 +47,14 @@ int main(int argc, char** argv) {
   stability_cmd->add_flag("--full", stability.full, "Include the slow sizes (the 1.3M-triangle mesh)");
 
   std::string all_dir = "reports/out";
+  SliceCommand slice;
+  auto* slice_cmd = app.add_subcommand("slice", "Draw a plane through the field: distance bands and |grad f| - 1, with "
+                                                "the squares where the certified slope exceeds the declared constant");
+  slice_cmd->add_option("scene", slice.scene, "Built-in scene name, scene file (.json) or GLSL file")->required();
+  slice_cmd->add_option("--plane", slice.plane, "The plane, x=VALUE, y=VALUE or z=VALUE (default: y through the camera's target)");
+  slice_cmd->add_option("-o,--output", slice.output, "Output image (.png)")->capture_default_str();
+  slice_cmd->add_option("--size", slice.size, "Size of each panel WIDTHxHEIGHT (default 512x512)");
+  slice_cmd->add_option("--set", slice.sets, "Override a scene parameter KEY=VALUE (repeatable)");
   auto* all_cmd = app.add_subcommand("render-all", "Render every built-in scene into a folder");
   all_cmd->add_option("-o,--output", all_dir, "Folder for the images");
 
@@ -104,6 +112,7 @@ int main(int argc, char** argv) {
   }
   if (*scenes_cmd) return run_scenes(scenes, std::cout, std::cerr);
   if (*render_cmd) return run_render(render, std::cout, std::cerr);
+  if (*slice_cmd) return run_slice(slice, std::cout, std::cerr);
   if (*validate_cmd) return run_validate(validate, std::cout, std::cerr);
   if (*sweep_cmd) {
     sweep.progress = ::isatty(STDERR_FILENO) != 0;

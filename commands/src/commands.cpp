@@ -9,6 +9,7 @@
 #include "marchcheck/sdf/glsl_export.hpp"
 #include "marchcheck/sdf/glsl_field.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
+#include "marchcheck/validation/slice.hpp"
 #include "marchcheck/validation/stability.hpp"
 #include "marchcheck/validation/validate.hpp"
 #include "user_marcher.hpp"
@@ -177,6 +178,43 @@ int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err) {
   out << scene.name << ": " << scene.width << "x" << scene.height << ", " << std::fixed << std::setprecision(1)
       << result.evals_per_pixel() << " evaluations per pixel, " << std::setprecision(3) << result.seconds
       << " s -> " << cmd.output << "\n";
+  return 0;
+}
+
+int run_slice(const SliceCommand& cmd, std::ostream& out, std::ostream& err) {
+  sdf::Scene scene;
+  validation::SlicePlane plane;
+  int width = 512, height = 512;
+  try {
+    scene = load_scene(cmd.scene, cmd.sets);
+    plane = cmd.plane ? validation::parse_plane(*cmd.plane) : validation::default_plane(scene);
+    if (cmd.size) {
+      sdf::Scene sized = scene;
+      apply_size(sized, *cmd.size);
+      width = sized.width;
+      height = sized.height;
+    }
+  } catch (const std::exception& e) {
+    err << "marchcheck slice: " << e.what() << "\n";
+    return kBadInput;
+  }
+  const validation::Slice s = validation::slice(scene, plane, width, height);
+  try {
+    march::write_image(s.image, cmd.output, false);
+  } catch (const std::exception& e) {
+    err << "marchcheck slice: " << e.what() << "\n";
+    return kBadInput;
+  }
+  const char axes[] = "xyz";
+  out << scene.name << ": slice " << axes[plane.axis] << " = " << plane.value << ", " << 2 * s.half << " wide around ("
+      << s.centre_u << ", " << s.centre_v << "); ";
+  if (s.certified) {
+    out << s.cells_over << " of " << s.cells << " squares where the certified |grad f| bound exceeds the declared "
+        << "constant (largest bound " << s.steepest_bound << ")";
+  } else {
+    out << "no interval rule for this field: no certified squares";
+  }
+  out << " -> " << cmd.output << "\n";
   return 0;
 }
 

@@ -8,6 +8,7 @@
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 #include "marchcheck/validation/convergence.hpp"
+#include "marchcheck/validation/slice.hpp"
 #include "marchcheck/validation/stability.hpp"
 #include "marchcheck/validation/sweep.hpp"
 #include "marchcheck/validation/validate.hpp"
@@ -91,6 +92,7 @@ struct SceneReport {
   std::string file;                    // slug for images and anchors
   int steps_max = 0;
   double pixels = 1;  // of the declared render
+  std::string slice_caption;
 };
 
 // Runs the plot script with the Python that has matplotlib (Debian's /usr/bin/python3 unless MARCHCHECK_PYTHON
@@ -173,6 +175,23 @@ class Builder {
 
   int image_width() const { return options_.quick ? 160 : 480; }
 
+  // The scene's slice through the camera's target (validation/slice.hpp), and its caption.
+  static std::string write_slice(const sdf::Scene& scene, const std::string& path) {
+    const validation::SlicePlane plane = validation::default_plane(scene);
+    const validation::Slice s = validation::slice(scene, plane, 240, 240);
+    march::write_image(s.image, path, false);
+    std::ostringstream c;
+    c << "slice y = " << number(plane.value) << ": distance bands and zero contour (left); |grad f| - 1, red steeper, "
+      << "blue flatter (right)";
+    if (s.certified) {
+      c << "; " << s.cells_over << " of " << s.cells << " squares outlined where the certified bound on |grad f| "
+        << "exceeds the declared constant (largest bound " << number(s.steepest_bound) << ")";
+    } else {
+      c << "; no interval rule for this field (GLSL): no certified squares";
+    }
+    return c.str();
+  }
+
   SceneReport scene_report(sdf::Scene scene) {
     step("validate " + scene.name);
     SceneReport r;
@@ -195,6 +214,7 @@ class Builder {
     r.cost = march::cost_metrics(declared);
     r.pixels = std::max(1.0, static_cast<double>(declared.color.width) * declared.color.height);
     r.result.images.reset();  // the pixels are on disk; keep the memory bounded over many scenes
+    r.slice_caption = write_slice(scene, (images / (r.file + ".slice.png")).string());
     r.scene = std::move(scene);
     return r;
   }
@@ -455,6 +475,7 @@ class Builder {
     figure("reference", "reference (exact hits, normals, shadows)");
     figure("error", "error heat map: largest colour difference, 0 to " + number(march::kErrorHeatMapMax));
     figure("steps", "primary march steps, 0 to " + std::to_string(r.steps_max));
+    figure("slice", r.slice_caption);
     if (r.scene.effects.ao != sdf::AmbientOcclusion::none || r.scene.effects.glow > 0 || r.scene.effects.max_bounces > 0)
       h << "<p>Both images leave out the effects only marching defines (occlusion, glow, bounces); their cost is in the "
            "table below.</p>\n";

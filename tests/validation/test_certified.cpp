@@ -84,6 +84,16 @@ TEST(CertifiedReference, ARayAlongTheSurfaceIsUndecidableAndSaysSo) {
   EXPECT_FALSE(ref.first_hit({0, 1, 0}, {0, -1, 0}, 10).undecided);  // straight down onto it: decided
 }
 
+// A ray that just touches a sphere (radius 0.7: its square is not a double, so the field at the touch is an
+// interval around 0) touches without crossing: no proven hit, however fine the segment.
+TEST(CertifiedReference, ATouchIsNoHit) {
+  const sdf::Node field = sdf::smooth_union(1e-6, {sdf::sphere(0.7), sdf::translate({100, 0, 0}, sdf::sphere(0.1))});
+  const CertifiedHit c = certified_first_hit(sdf::compile(field), {-2, 0.7, 0}, {1, 0, 0}, 4);  // touches at t = 2
+  EXPECT_NE(c.verdict, CertifiedHit::Verdict::hit);
+  // The proof stops where it can no longer tell the field from 0: within the certified width of the touch.
+  EXPECT_NEAR(c.t_lo, 2, 1e-6);
+}
+
 TEST(CertifiedReference, AMarcherTrustingAnUnderstatedConstantIsCaughtAndTheConstantExposed) {
   const sdf::Scene s = slab_scene();
   ValidateOptions options;
@@ -119,6 +129,20 @@ TEST(CertifiedLipschitz, ProvesTheTrueConstantAlongRaysAndShowsAnUnderstatedOneU
   EXPECT_GT(under.unproven, 0);
   EXPECT_GT(under.lower, kUnderstated);
   EXPECT_LE(under.lower, kTrueL * (1 + 1e-9));  // a proven slope never exceeds the true constant
+}
+
+// A twisted box's gradient bound over a long piece of a ray is loose (the twist's angle spans a wide interval)
+// and tight over short ones: the pieces are halved until each is proven, and the declared constant is.
+TEST(CertifiedLipschitz, RefinesWhereTheBoundIsLoose) {
+  const sdf::Node twisted = sdf::make(sdf::Op::twist, {{"rate", {1.5}}}, {sdf::box({0.5, 1, 0.3})});
+  const double declared = sdf::derive_info(twisted, 0).lipschitz;
+  std::vector<RayPath> paths;
+  for (int i = 0; i < 8; ++i)
+    paths.push_back({{-3, -1 + 0.25 * i, 0.1}, glm::normalize(dvec3(1, 0.05, 0.02 * i)), 6});
+  const CertifiedLipschitz c = certify_lipschitz(sdf::compile(twisted), paths, kLipschitzTolerance * declared);
+  EXPECT_EQ(c.unproven, 0);
+  EXPECT_LE(c.upper, kLipschitzTolerance * declared);
+  EXPECT_GT(c.boxes, 4 * static_cast<int>(paths.size()));  // refined: more than a couple of pieces per path
 }
 
 }  // namespace

@@ -551,7 +551,7 @@ void certify_field(Judging& j, const std::vector<RayPath>& paths, std::map<std::
   if (!sdf::interval_supported(tape)) return;
   std::vector<RayPath> sample;
   for (size_t i = 0; i < paths.size(); i += 8) sample.push_back(paths[i]);
-  const double target = 1.001 * j.declared;
+  const double target = kLipschitzTolerance * j.declared;
   const CertifiedLipschitz c = certify_lipschitz(tape, sample, target);
   m["sdf.lipschitz_certified"] = c.upper;
   m["sdf.lipschitz_proven_lower"] = c.lower;

@@ -34,6 +34,17 @@ struct RenderCommand {
 };
 int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err);
 
+struct SliceCommand {
+  std::string scene;
+  std::optional<std::string> plane;  // "y=0.5"; default: the horizontal plane through the camera's target
+  std::string output = "slice.png";
+  std::optional<std::string> size;  // of each panel, "WxH"
+  std::vector<std::string> sets;
+};
+// The field's slice (validation/slice.hpp) as a PNG: distance bands, and |grad f| - 1 with the squares where the
+// certified slope exceeds the declared constant outlined.
+int run_slice(const SliceCommand& cmd, std::ostream& out, std::ostream& err);
+
 struct ValidateCommand {
   std::vector<std::string> scenes;  // names or files (.json scenes, .glsl fields); "all" = every built-in
   std::optional<std::string> json;

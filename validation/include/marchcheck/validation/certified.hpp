@@ -61,6 +61,9 @@ struct RayPath {
 };
 
 inline constexpr double kCertifiedLipschitzPiece = 1e-4;
+// A bound within this factor of the declared constant proves it: the tolerance of sdf.lipschitz_over_declared,
+// so that a declared constant equal to the true supremum (the rules' own) is provable.
+inline constexpr double kLipschitzTolerance = 1.001;
 
 // Requires sdf::interval_supported(tape). target: the constant to prove (the declared one, with its tolerance).
 CertifiedLipschitz certify_lipschitz(const sdf::Tape& tape, const std::vector<RayPath>& paths, double target,
