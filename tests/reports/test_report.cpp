@@ -67,7 +67,7 @@ TEST_F(Report, OpensInChromiumWithEveryImageAndPlotAndNoConsoleError) {
   EXPECT_NE(html.find("fogerty-defect-steps"), std::string::npos);
   EXPECT_NE(html.find("hit.undecided"), std::string::npos);  // the check that catches the defect
   const size_t images = count(html, "<img ");
-  EXPECT_EQ(images, 2u * 4 + 5);  // marched, reference, error, steps per scene; five plots
+  EXPECT_EQ(images, 2u * 5 + 5);  // marched, reference, error, steps, slice per scene; five plots
   const BrowserView view = open_in_chromium(out / "index.html", dir_);
   EXPECT_EQ(view.images_loaded, std::to_string(images) + "/" + std::to_string(images));
   EXPECT_EQ(view.console, "");
