@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git
-  libglm-dev libcgal-dev libopenmesh-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libglm-dev libboost-dev libcgal-dev libopenmesh-dev libgtest-dev libgmock-dev libbenchmark-dev
   libopenimageio-dev openimageio-tools libtbb-dev libembree-dev  # OIIO's CMake package checks its tools exist
   nlohmann-json3-dev libcli11-dev libfmt-dev
   glslang-dev glslang-tools spirv-tools spirv-headers  # GLSL fields; the glslang CMake package checks its tools

@@ -4,6 +4,7 @@
 // the L-stepping numerical reference trusting the same 2, jumps it too and would call every such miss right.
 #include "marchcheck/validation/certified.hpp"
 #include "marchcheck/validation/reference.hpp"
+#include "marchcheck/validation/slice.hpp"
 #include "marchcheck/validation/validate.hpp"
 
 #include "marchcheck/march/camera.hpp"
@@ -143,6 +144,28 @@ TEST(CertifiedLipschitz, RefinesWhereTheBoundIsLoose) {
   EXPECT_EQ(c.unproven, 0);
   EXPECT_LE(c.upper, kLipschitzTolerance * declared);
   EXPECT_GT(c.boxes, 4 * static_cast<int>(paths.size()));  // refined: more than a couple of pieces per path
+}
+
+// The slice across the slab (the plane z = 0.01 through the camera's target): both panels, the zero contour
+// white where the slab's faces cross it, and the certified squares: every bound at least the slab's slope 4
+// where a square meets it, none over the declared (true) constant.
+TEST(Slice, DrawsTheSlabWithItsContourAndCertifiedSquares) {
+  sdf::Scene s = slab_scene();
+  const Slice sl = slice(s, parse_plane("z=0.01"), 64, 64);
+  EXPECT_EQ(sl.image.width, 128);
+  EXPECT_EQ(sl.image.height, 64);
+  ASSERT_TRUE(sl.certified);
+  EXPECT_EQ(sl.cells, 32 * 32);
+  EXPECT_EQ(sl.cells_over, 0);
+  EXPECT_GE(sl.steepest_bound, kTrueL);
+  EXPECT_LE(sl.steepest_bound, kLipschitzTolerance * kTrueL);
+  int white = 0;  // the contour: the slab's two faces, a row or two each across the 64 columns
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) white += sl.image.at(x, y)[0] == 1.f && sl.image.at(x, y)[2] == 1.f;
+  EXPECT_GE(white, 2 * 64);
+  EXPECT_THROW(parse_plane("w=1"), std::invalid_argument);
+  EXPECT_THROW(parse_plane("y=1e999"), std::invalid_argument);
+  EXPECT_EQ(parse_plane("x=-0.5").axis, 0);
 }
 
 }  // namespace
