@@ -466,6 +466,12 @@ class Builder {
     h << "&nbsp; SDF kind: " << escape(sdf::to_string(info.kind))
       << (info.kind == sdf::Kind::estimate ? ", stepped by f / " : ", Lipschitz bound ") << number(info.lipschitz)
       << " (" << escape(info.reason) << ")</p>\n";
+    h << "<p>Judged by the " << escape(r.result.reference) << " reference"
+      << (r.result.reference == "certified"
+              ? ": every hit and shadow proven by interval arithmetic (undecidable rays left out and counted); "
+                "sdf.lipschitz_certified proven along every eighth primary ray; sdf.lipschitz_measured sampled"
+              : "")
+      << ".</p>\n";
     const auto figure = [&](const std::string& suffix, const std::string& caption) {
       const std::string src = "images/" + r.file + "." + suffix + ".png";
       h << "<figure><a href=\"" << src << "\"><img src=\"" << src << "\" alt=\"" << escape(r.scene.name) << " "
