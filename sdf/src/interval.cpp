@@ -170,8 +170,7 @@ glm::vec<3, Interval> hull(glm::vec<3, Interval> a, glm::vec<3, Interval> b) {
 }
 const glm::vec<3, Interval> kAnyGradient(Interval::entire());
 
-// The largest |x| over a, and the smallest.
-double magnitude(Interval a) { return std::max(std::abs(a.lo), std::abs(a.hi)); }
+// The smallest |x| over a.
 double mignitude(Interval a) { return a.contains(0) ? 0 : std::min(std::abs(a.lo), std::abs(a.hi)); }
 // x y and x / y rounded up, for the length bounds.
 double times_up(double x, double y) { return (Interval(x) * Interval(y)).hi; }
@@ -180,9 +179,9 @@ double over_up(double x, double y) { return y > 0 ? (Interval(x) / Interval(y)).
 }  // namespace
 
 double norm_bound(const glm::vec<3, Interval>& g) {
-  Interval s = square(Interval(magnitude(g.x)));
-  s += square(Interval(magnitude(g.y)));
-  s += square(Interval(magnitude(g.z)));
+  Interval s = square(Interval(g.x.magnitude()));
+  s += square(Interval(g.y.magnitude()));
+  s += square(Interval(g.z.magnitude()));
   return sqrt(s).hi;
 }
 
@@ -195,10 +194,10 @@ DualInterval operator+(DualInterval a, DualInterval b) { return {a.v + b.v, a.d 
 DualInterval operator-(DualInterval a, DualInterval b) { return {a.v - b.v, a.d - b.d, (Interval(a.n) + Interval(b.n)).hi}; }
 DualInterval operator-(DualInterval a) { return {-a.v, -a.d, a.n}; }
 DualInterval operator*(DualInterval a, DualInterval b) {
-  return {a.v * b.v, a.d * b.v + b.d * a.v, (Interval(times_up(a.n, magnitude(b.v))) + Interval(times_up(b.n, magnitude(a.v)))).hi};
+  return {a.v * b.v, a.d * b.v + b.d * a.v, (Interval(times_up(a.n, b.v.magnitude())) + Interval(times_up(b.n, a.v.magnitude()))).hi};
 }
 DualInterval operator/(DualInterval a, DualInterval b) {
-  const double numerator = (Interval(times_up(a.n, magnitude(b.v))) + Interval(times_up(b.n, magnitude(a.v)))).hi;
+  const double numerator = (Interval(times_up(a.n, b.v.magnitude())) + Interval(times_up(b.n, a.v.magnitude()))).hi;
   return {a.v / b.v, (a.d * b.v - b.d * a.v) / (b.v * b.v), over_up(numerator, times_up(mignitude(b.v), mignitude(b.v)))};
 }
 DualInterval sqrt(DualInterval a) {
@@ -225,20 +224,16 @@ DualInterval floor(DualInterval a) { return DualInterval(floor(a.v)); }
 DualInterval sign(DualInterval a) { return DualInterval(sign(a.v)); }
 DualInterval sin(DualInterval a) {
   const Interval c = cos(a.v);
-  return {sin(a.v), a.d * c, times_up(a.n, magnitude(c))};
+  return {sin(a.v), a.d * c, times_up(a.n, c.magnitude())};
 }
 DualInterval cos(DualInterval a) {
   const Interval s = sin(a.v);
-  return {cos(a.v), a.d * -s, times_up(a.n, magnitude(s))};
+  return {cos(a.v), a.d * -s, times_up(a.n, s.magnitude())};
 }
 DualInterval hull(DualInterval a, DualInterval b) {
   return {hull(a.v, b.v), hull(a.d, b.d), std::max(a.n, b.n)};
 }
 
-glm::vec<3, DualInterval> seeded(glm::vec<3, Interval> box) {
-  return {DualInterval(box.x, {1.0, 0.0, 0.0}), DualInterval(box.y, {0.0, 1.0, 0.0}),
-          DualInterval(box.z, {0.0, 0.0, 1.0})};
-}
 
 }  // namespace marchcheck::sdf
 
@@ -250,8 +245,6 @@ namespace marchcheck::sdf::kernels {
 
 namespace interval_rules {
 
-Interval value_part(Interval a) { return a; }
-Interval value_part(DualInterval a) { return a.v; }
 
 // The value restricted to [lo, hi] (the part of a box in one cell), its gradient kept.
 Interval within(Interval a, double lo, double hi) { return {std::max(a.lo, lo), std::min(a.hi, hi)}; }
@@ -270,7 +263,7 @@ I anything() {
 // A branch on a > b: the branch taken where it is decided, else both, joined.
 template <class I, class Then, class Else>
 I branch(I a, I b, Then then_, Else else_) {
-  const Interval x = value_part(a), y = value_part(b);
+  const Interval x = value_of(a), y = value_of(b);
   if (x.lo > y.hi) return then_();
   if (x.hi <= y.lo) return else_();
   return hull(then_(), else_());
@@ -303,7 +296,7 @@ I octahedron(const Args<I>& k, vec3<I> p) {
   bool have = false;
   I out = face;
   for (int i = 0; i < 3; ++i) {
-    const Interval t = value_part(tests[i]), mv = value_part(m);
+    const Interval t = value_of(tests[i]), mv = value_of(m);
     if (t.hi < mv.lo) {  // taken wherever it is reached
       const I e = edge(cases[i]);
       return have ? hull(out, e) : e;
@@ -341,7 +334,7 @@ template <class I>
 I mandelbulb(const Args<I>& k, vec3<I> p) {
   // Only beyond r = 8, where the kernel is the distance to the ball holding the set, is there a closed rule.
   const I big = max(abs(p.x), max(abs(p.y), abs(p.z)));
-  if (!(value_part(big).lo > 8)) return anything<I>();
+  if (!(value_of(big).lo > 8)) return anything<I>();
   const I set_radius = literal<I>(std::pow(2.0, 1.0 / (k.raw(0) - 1)));
   return big * length(p / big) - set_radius;
 }
@@ -352,7 +345,7 @@ template <class I>
 I mesh(const Args<I>& k, vec3<I> p) {
   glm::dvec3 centre, half;
   for (int i = 0; i < 3; ++i) {
-    const Interval c = value_part(p[i]);
+    const Interval c = value_of(p[i]);
     if (!std::isfinite(c.lo) || !std::isfinite(c.hi)) return anything<I>();
     centre[i] = 0.5 * c.lo + 0.5 * c.hi;
     half[i] = std::max(c.hi - centre[i], centre[i] - c.lo);
@@ -395,7 +388,7 @@ I grid(const Args<I>& k, vec3<I> p) {
     const double top = n[i] - 1;
     c[i] = clamp(g[i], I(0.0), I(top));
     outside[i] = past_ends(g[i], top);
-    const Interval cv = value_part(c[i]);
+    const Interval cv = value_of(c[i]);
     if (!(cv.lo >= 0 && cv.hi <= top)) return anything<I>();  // NaN
     first[i] = std::min(static_cast<int>(cv.lo), n[i] - 2);
     last[i] = std::min(static_cast<int>(cv.hi), n[i] - 2);
@@ -428,7 +421,7 @@ I grid(const Args<I>& k, vec3<I> p) {
 template <class I>
 I repeat_axis(I p, double c, double n) {
   // Rounded outwards, the cells' range holds every cell the box's points fall in.
-  const Interval P = value_part(p), cells = floor(P / Interval(c) + Interval(0.5));
+  const Interval P = value_of(p), cells = floor(P / Interval(c) + Interval(0.5));
   const double lo = std::clamp(cells.lo, -n, n), hi = std::clamp(cells.hi, -n, n);
   if (lo == hi) return p - I(c * lo);
   const Interval local(std::min(-0.5 * c, (P - Interval(c) * Interval(lo)).lo),
@@ -457,7 +450,7 @@ vec3<I> p_repeat_limited(const Args<I>& k, vec3<I> p) {
 // Value noise, cell by cell over at most 16 cells: the smoothstep is monotone on a cell, so its range is its ends'.
 template <class I>
 I value_noise(I x, I z) {
-  const Interval X = value_part(x), Z = value_part(z);
+  const Interval X = value_of(x), Z = value_of(z);
   const double x0 = std::floor(X.lo), x1 = std::floor(X.hi), z0 = std::floor(Z.lo), z1 = std::floor(Z.hi);
   if (!(std::abs(x0) < 4e18 && std::abs(x1) < 4e18 && std::abs(z0) < 4e18 && std::abs(z1) < 4e18) ||
       (x1 - x0 + 1) * (z1 - z0 + 1) > 16) {
@@ -471,12 +464,12 @@ I value_noise(I x, I z) {
   }
   auto smoothstep = [](I t) {
     auto s = [](double e) { const Interval u(e); return u * u * (Interval(3) - Interval(2) * u); };
-    const Interval tv = value_part(t), v = hull(s(tv.lo), s(tv.hi));
+    const Interval tv = value_of(t), v = hull(s(tv.lo), s(tv.hi));
     if constexpr (std::is_same_v<I, Interval>) {
       return v;
     } else {
       const Interval slope = Interval(6) * tv * (Interval(1) - tv);
-      return I(v, t.d * slope, (Interval(t.n) * Interval(std::max(std::abs(slope.lo), std::abs(slope.hi)))).hi);
+      return I(v, t.d * slope, (Interval(t.n) * Interval(slope.magnitude())).hi);
     }
   };
   I out(0.0);
@@ -619,7 +612,7 @@ std::vector<vec3<I>> repeat_pieces(const Tape& tape, const Instr& in, vec3<I> p)
     const double c = k.raw(axis);
     if (!(c > 0)) continue;
     const double n = in.op == TapeOp::p_repeat_limited ? k.raw(3 + axis) : std::numeric_limits<double>::infinity();
-    const Interval P = kernels::interval_rules::value_part(p[axis]);
+    const Interval P = value_of(p[axis]);
     const Interval cells = floor(P / Interval(c) + Interval(0.5));
     const double lo = std::clamp(cells.lo, -n, n), hi = std::clamp(cells.hi, -n, n);
     if (lo == hi) {  // one cell: its local point, as the kernel's rule
@@ -684,6 +677,12 @@ template <>
 DualInterval evaluate<DualInterval>(const Tape& tape, glm::vec<3, DualInterval> p) {
   const Upward upward;
   return run_intervals(tape, 0, tape.code.size(), p);
+}
+
+template <>
+glm::vec<3, DualInterval> seeded<Interval>(glm::vec<3, Interval> box) {
+  return {DualInterval(box.x, {1.0, 0.0, 0.0}), DualInterval(box.y, {0.0, 1.0, 0.0}),
+          DualInterval(box.z, {0.0, 0.0, 1.0})};
 }
 
 bool interval_supported(const Tape& tape) {

@@ -26,8 +26,7 @@ Box box_around(glm::dvec3 c, glm::dvec3 half) {
 }
 
 glm::dvec3 gradient(const Tape& tape, glm::dvec3 p) {
-  using D = Dual<double>;
-  return evaluate(tape, glm::vec<3, D>(D(p.x, {1, 0, 0}), D(p.y, {0, 1, 0}), D(p.z, {0, 0, 1}))).d;
+  return evaluate(tape, seeded(p)).d;
 }
 
 // The first sample of a box whose value, gradient or gradient length its intervals miss, or "".

@@ -41,6 +41,11 @@ double bisect(const sdf::Tape& tape, glm::dvec3 o, glm::dvec3 d, double a, doubl
 
 }  // namespace
 
+glm::dvec3 field_normal(const sdf::Tape& tape, glm::dvec3 p, glm::dvec3 d) {
+  const glm::dvec3 g = sdf::evaluate(tape, sdf::seeded(p)).d;
+  return glm::length(g) > 0 ? glm::normalize(g) : -d;
+}
+
 CertifiedHit certified_first_hit(const sdf::Tape& tape, glm::dvec3 o, glm::dvec3 d, double t_max) {
   CertifiedHit out;
   const Interval at_origin = sdf::evaluate(tape, segment(o, d, 0, 0));
@@ -71,10 +76,7 @@ CertifiedHit certified_first_hit(const sdf::Tape& tape, glm::dvec3 o, glm::dvec3
         out.t_lo = a;
         out.t_hi = b;
         out.t = bisect(tape, o, d, a, b, out.evaluations);
-        const glm::dvec3 p = o + d * out.t;
-        using D = sdf::Dual<double>;
-        const glm::dvec3 g = sdf::evaluate(tape, glm::vec<3, D>(D(p.x, {1, 0, 0}), D(p.y, {0, 1, 0}), D(p.z, {0, 0, 1}))).d;
-        out.normal = glm::length(g) > 0 ? glm::normalize(g) : -d;
+        out.normal = field_normal(tape, o + d * out.t, d);
         return out;
       }
       // Not yet proven either way: a thousand times finer, then undecidable.
@@ -97,8 +99,7 @@ namespace {
 // A proven slope of f along the piece [a, b] of a ray: the difference quotient along the gradient at its
 // middle, over a step of a tenth of the piece, with the values' intervals (the distance rounded up).
 double proven_slope(const sdf::Tape& tape, glm::dvec3 c, double length, glm::dvec3& at) {
-  using D = sdf::Dual<double>;
-  const glm::dvec3 g = sdf::evaluate(tape, glm::vec<3, D>(D(c.x, {1, 0, 0}), D(c.y, {0, 1, 0}), D(c.z, {0, 0, 1}))).d;
+  const glm::dvec3 g = sdf::evaluate(tape, sdf::seeded(c)).d;
   if (!(glm::length(g) > 0)) return 0;
   const glm::dvec3 e = c + glm::normalize(g) * (0.1 * length);
   auto point = [](glm::dvec3 p) { return glm::vec<3, Interval>(Interval(p.x), Interval(p.y), Interval(p.z)); };

@@ -471,11 +471,7 @@ ReferenceHit Reference::numerical_first_hit(dvec3 o, dvec3 d, double t_max) cons
       }
       out.hit = b <= t_max;
       out.t = 0.5 * (a + b);
-      const dvec3 p = o + d * out.t;
-      using D = sdf::Dual<double>;
-      const glm::vec<3, D> q(D(p.x, {1, 0, 0}), D(p.y, {0, 1, 0}), D(p.z, {0, 0, 1}));
-      const dvec3 g = sdf::evaluate(tape_, q).d;
-      out.normal = glm::length(g) > 0 ? glm::normalize(g) : -d;
+      out.normal = field_normal(tape_, o + d * out.t, d);
       return out;
     }
     t = next;

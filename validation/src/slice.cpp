@@ -74,12 +74,11 @@ Slice slice(const sdf::Scene& scene, SlicePlane plane, int width, int height) {
   auto uv = [&](double px, double py) {
     return glm::dvec2(out.centre_u - out.half + side * px / width, out.centre_v + out.half - side * py / height);
   };
-  using D = sdf::Dual<double>;
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
       const glm::dvec2 w = uv(x + 0.5, y + 0.5);
       const glm::dvec3 p = point_at(plane, w.x, w.y);
-      const D f = sdf::evaluate(tape, glm::vec<3, D>(D(p.x, {1, 0, 0}), D(p.y, {0, 1, 0}), D(p.z, {0, 0, 1})));
+      const sdf::Dual<double> f = sdf::evaluate(tape, sdf::seeded(p));
       distance_colour(f.v, side / 10, pixel, out.image.at(x, y));
       slope_colour(glm::length(f.d) - 1, out.image.at(width + x, y));
     }

@@ -30,6 +30,8 @@ struct Interval {
 
   constexpr bool contains(double x) const { return lo <= x && x <= hi; }
   constexpr double width() const { return hi - lo; }
+  // The largest |x| over the interval.
+  constexpr double magnitude() const { return std::max(lo < 0 ? -lo : lo, hi < 0 ? -hi : hi); }
   constexpr bool is_entire() const { return lo == entire().lo && hi == entire().hi; }
 
   Interval& operator+=(Interval b);
@@ -119,7 +121,7 @@ double jacobian_bound(const glm::vec<N, DualInterval>& a) {
     for (int j = 0; j < N; ++j) {
       if (j == i) continue;
       const Interval dot = a[i].d.x * a[j].d.x + a[i].d.y * a[j].d.y + a[i].d.z * a[j].d.z;
-      disc += Interval(std::max(std::abs(dot.lo), std::abs(dot.hi)));
+      disc += Interval(dot.magnitude());
     }
     largest = max(largest, disc);
   }
@@ -146,11 +148,14 @@ DualInterval length(glm::vec<N, DualInterval> a) {
 // rule: their value over a box is the whole line (interval_supported says whether a tape has one).
 template <>
 Interval evaluate<Interval>(const Tape& tape, glm::vec<3, Interval> p);
-// Its range and its gradient's over the box (seed p with the identity's derivatives).
+// Its range and its gradient's over the box (p: seeded(box), scalar.hpp).
 template <>
 DualInterval evaluate<DualInterval>(const Tape& tape, glm::vec<3, DualInterval> p);
-// The box as the gradient evaluation takes it: each coordinate seeded with its unit derivative.
-glm::vec<3, DualInterval> seeded(glm::vec<3, Interval> box);
+
+// The box seeded for the gradient evaluation, out of line: compiled where the gradient intervals are (GCC 12's
+// SLP vectoriser with AVX-512 miscompiles them inlined elsewhere: sdf/CMakeLists.txt).
+template <>
+glm::vec<3, DualInterval> seeded<Interval>(glm::vec<3, Interval> box);
 
 // Whether every instruction of the tape has an interval rule that can prove something (not a GLSL field).
 bool interval_supported(const Tape& tape);

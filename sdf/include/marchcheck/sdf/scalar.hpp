@@ -52,6 +52,14 @@ constexpr auto value_of(T x) {
   }
 }
 
+// The point as forward-mode differentiation takes it: each coordinate seeded with its unit derivative, so that
+// a field evaluated at it carries its gradient.
+template <class T>
+glm::vec<3, Dual<T>> seeded(glm::vec<3, T> p) {
+  using V = glm::vec<3, T>;
+  return {Dual<T>(p.x, V(T(1), T(0), T(0))), Dual<T>(p.y, V(T(0), T(1), T(0))), Dual<T>(p.z, V(T(0), T(0), T(1)))};
+}
+
 namespace smath {
 
 template <class T>

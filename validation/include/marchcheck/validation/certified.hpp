@@ -33,6 +33,10 @@ inline constexpr double kCertifiedWidth = 1e-7;
 // Interval evaluations one ray may spend before it is undecidable (a field whose intervals never tighten).
 inline constexpr std::uint64_t kCertifiedBudget = 200000;
 
+// A reference's normal at its hit p: the field's gradient there (double, forward mode), normalised; where it
+// vanishes, against the ray's direction d.
+glm::dvec3 field_normal(const sdf::Tape& tape, glm::dvec3 p, glm::dvec3 d);
+
 // Requires sdf::interval_supported(tape). direction: unit length.
 CertifiedHit certified_first_hit(const sdf::Tape& tape, glm::dvec3 origin, glm::dvec3 direction, double t_max);
 
