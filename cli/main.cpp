@@ -39,6 +39,8 @@ int main(int argc, char** argv) {
                            "A .glsl file's own marcher, run on the GL driver: float|vec2|vec4 NAME(vec3 ro, vec3 rd) "
                            "(t is .x), or NAME.member for a struct");
   validate_cmd->add_option("--normal", validate.normal, "With --march: the file's vec3 NAME(vec3 p) normal function");
+  validate_cmd->add_option("--shard", validate.shard,
+                           "I/N: validate only scenes I, I+N, I+2N, ... (from 0) into --json, a shard file for merge");
 
   StabilityCommand stability;
   auto* stability_cmd = app.add_subcommand("stability", "The hard-case battery; exit 0 all stable, 1 a case is not");
@@ -75,6 +77,15 @@ int main(int argc, char** argv) {
                         "shader's #define or uniform NAME");
   sweep_cmd->add_option("--normal", sweep.normal, "With --march: the file's normal function");
   sweep_cmd->add_option("--function", sweep.function, "With --march: the field the marcher calls (default map)");
+  sweep_cmd->add_option("--shard", sweep.shard,
+                        "I/N: run only combinations I, I+N, I+2N, ... (from 0) into --json, a shard file for merge");
+
+  MergeCommand merge;
+  auto* merge_cmd = app.add_subcommand("merge", "Put the shard files of a sweep or validate run (--shard I/N) together: "
+                                                "the table and files one process makes");
+  merge_cmd->add_option("shards", merge.shards, "Every shard file of the run, in any order")->required();
+  merge_cmd->add_option("-o,--json", merge.output, "Write the run's result file (as its --json)");
+  merge_cmd->add_option("--csv", merge.csv, "Write a sweep's CSV file");
 
   CompareCommand compare;
   auto* compare_cmd = app.add_subcommand("compare", "Compare two validate/sweep result files; exit 1 on a regression");
@@ -118,6 +129,7 @@ int main(int argc, char** argv) {
     sweep.progress = ::isatty(STDERR_FILENO) != 0;
     return run_sweep(sweep, std::cout, std::cerr);
   }
+  if (*merge_cmd) return run_merge(merge, std::cout, std::cerr);
   if (*compare_cmd) return run_compare(compare, std::cout, std::cerr);
   if (*report_cmd) {
     report.progress = ::isatty(STDERR_FILENO) != 0;

@@ -12,6 +12,7 @@
 #include "marchcheck/validation/slice.hpp"
 #include "marchcheck/validation/stability.hpp"
 #include "marchcheck/validation/validate.hpp"
+#include "sharded.hpp"
 #include "user_marcher.hpp"
 
 #include <nlohmann/json.hpp>
@@ -220,19 +221,36 @@ int run_slice(const SliceCommand& cmd, std::ostream& out, std::ostream& err) {
 
 namespace {
 
-// validate's results to --json, and its exit status: 0 every scene passes, 1 one fails, 2 the file cannot be written.
-int validate_status(const ValidateCommand& cmd, const std::vector<validation::SceneResult>& results,
+// validate's results to --json (0, or 2 when the file cannot be written), and its status: 1 when a scene failed.
+int finish_validate(const ShardFile& whole, bool printed, const std::optional<std::string>& json, std::ostream& out,
                     std::ostream& err) {
-  if (cmd.json) {
+  std::vector<validation::SceneResult> results;
+  for (const auto& s : whole.scenes) {
+    if (!printed) out << s.printed;
+    results.push_back(s.result);
+  }
+  if (json) {
     try {
-      files::write_bytes_atomically(*cmd.json, validate_json(results));
+      files::write_bytes_atomically(*json, validate_json(results));
     } catch (const std::exception& e) {
       err << "marchcheck validate: " << e.what() << "\n";
       return kBadInput;
     }
   }
-  const bool all_pass = std::all_of(results.begin(), results.end(), [](const auto& r) { return r.pass(); });
-  return all_pass ? 0 : 1;
+  return results_status(whole);
+}
+
+// What a command's results depend on besides its scenes: its options, one per line.
+std::string settings_hash(const std::vector<std::string>& options) {
+  std::string text;
+  for (const auto& o : options) text += o + "\n";
+  return content_hash(text);
+}
+
+std::string validate_settings_hash(const ValidateCommand& cmd) {
+  std::vector<std::string> options = {"function=" + cmd.function, "march=" + cmd.march, "normal=" + cmd.normal};
+  for (const auto& set : cmd.sets) options.push_back("set " + set);
+  return settings_hash(options);
 }
 
 UserShader read_user_shader(const std::string& path) {
@@ -241,13 +259,40 @@ UserShader read_user_shader(const std::string& path) {
   return {path, *text, {}};
 }
 
-// A GLSL file's own marcher on the GL driver, judged; the table and what the scene was made of.
-int validate_user_marcher(const ValidateCommand& cmd, std::ostream& out, std::ostream& err) {
+// A GLSL file's own marcher on the GL driver, judged: the table, and what the scene was made of.
+std::string judge_printed(const sdf::Scene& scene, const ValidateCommand& cmd, const validation::SceneResult& judged,
+                          const std::string& renderer) {
+  std::ostringstream out;
+  validation::print_checks(judged, out);
+  out << "  scene: " << scene.description << "\n  marcher: " << cmd.march
+      << (cmd.normal.empty() ? "" : ", normal " + cmd.normal) << ", map calls counted, on " << renderer
+      << "; march.safe_step_ratio assumes steps of f\n";
+  const auto& m = judged.metrics;
+  out << "  driver against CPU (the same marcher, float): " << m.at("driver.outcome_differs")
+      << " rays with another outcome, t within " << m.at("driver.t_ulps_max") << " ulps where both hit; float "
+      << "against double on the CPU: " << m.at("cpu.float_double_outcome_differs") << " rays with another outcome"
+      << ", against half (mediump): " << m.at("cpu.float_half_outcome_differs") << ", t within "
+      << format_value(m.at("cpu.float_half_t_rel_max")) << " relative"
+      << (m.at("driver.cpu_unfinished") > 0
+              ? "; " + format_value(m.at("driver.cpu_unfinished")) + " rays the CPU evaluator could not finish"
+              : "")
+      << "\n";
+  return out.str();
+}
+
+// The GLSL files' own marchers, each judged on the GL driver: the files are the work items.
+ShardFile validate_user_marchers(const ValidateCommand& cmd, const validation::Shard& shard, std::ostream& out) {
   const gpu::UserMarcher marcher{cmd.march, cmd.normal, cmd.function};
-  std::vector<validation::SceneResult> results;
+  std::string shaders;
   for (const auto& path : cmd.scenes) {
+    if (!path.ends_with(".glsl")) throw sdf::SceneError(path + ": --march runs a .glsl file's own marcher");
+    shaders += path + "\n" + read_user_shader(path).text + "\n";
+  }
+  ShardFile results{{"validate", content_hash(shaders), validate_settings_hash(cmd), program_version(), cmd.scenes.size()}, shard, {}, {}, {}};
+  for (size_t i = 0; i < cmd.scenes.size(); ++i) {
+    if (!shard.holds(i)) continue;
+    const std::string& path = cmd.scenes[i];
     try {
-      if (!path.ends_with(".glsl")) throw sdf::SceneError(path + ": --march runs a .glsl file's own marcher");
       std::string renderer;
       const UserShader shader = read_user_shader(path);
       sdf::Scene scene = user_marcher_scene(shader, marcher);
@@ -257,60 +302,52 @@ int validate_user_marcher(const ValidateCommand& cmd, std::ostream& out, std::os
         throw sdf::SceneError(path + ": --march judges the GL driver's run, in float; the marcher in half (mediump) "
                                      "is run on the CPU and compared under the table");
       sdf::compile(scene.root, scene.time);
-      results.push_back(judge_user_marcher(scene, shader, marcher, renderer));
-      validation::print_checks(results.back(), out);
-      out << "  scene: " << scene.description << "\n  marcher: " << cmd.march
-          << (cmd.normal.empty() ? "" : ", normal " + cmd.normal) << ", map calls counted, on " << renderer
-          << "; march.safe_step_ratio assumes steps of f\n";
-      const auto& m = results.back().metrics;
-      out << "  driver against CPU (the same marcher, float): " << m.at("driver.outcome_differs")
-          << " rays with another outcome, t within " << m.at("driver.t_ulps_max") << " ulps where both hit; float "
-          << "against double on the CPU: " << m.at("cpu.float_double_outcome_differs") << " rays with another outcome"
-          << ", against half (mediump): " << m.at("cpu.float_half_outcome_differs") << ", t within "
-          << format_value(m.at("cpu.float_half_t_rel_max")) << " relative"
-          << (m.at("driver.cpu_unfinished") > 0
-                  ? "; " + format_value(m.at("driver.cpu_unfinished")) + " rays the CPU evaluator could not finish"
-                  : "")
-          << "\n";
+      const validation::SceneResult judged = judge_user_marcher(scene, shader, marcher, renderer);
+      results.scenes.push_back({i, judge_printed(scene, cmd, judged, renderer), judged});
+      out << results.scenes.back().printed;
     } catch (const gpu::DriverUnavailable& e) {
-      err << "marchcheck validate: " << path << ": no GL driver to run the marcher on: " << e.what() << "\n";
-      return kBadInput;
-    } catch (const std::exception& e) {
-      err << "marchcheck validate: " << e.what() << "\n";
-      return kBadInput;
+      throw std::runtime_error(path + ": no GL driver to run the marcher on: " + e.what());
     }
   }
-  return validate_status(cmd, results, err);
+  return results;
+}
+
+// The scenes validated: every one loaded (a bad one is bad input in every shard), the shard's own run.
+ShardFile validate_scenes(const ValidateCommand& cmd, const validation::Shard& shard, std::ostream& out) {
+  std::vector<sdf::Scene> scenes;
+  for (const auto& name : cmd.scenes) {
+    if (name.ends_with(".glsl")) {
+      for (sdf::Scene& s : glsl_scenes(name, cmd.function, cmd.sets)) scenes.push_back(std::move(s));
+      continue;
+    }
+    const auto names = name == "all" ? sdf::builtin_scene_names() : std::vector<std::string>{name};
+    for (const auto& n : names) scenes.push_back(load_scene(n, cmd.sets));
+  }
+  ShardFile results{{"validate", scenes_hash(scenes), validate_settings_hash(cmd), program_version(), scenes.size()}, shard, {}, {}, {}};
+  for (size_t i = 0; i < scenes.size(); ++i) {
+    if (!shard.holds(i)) continue;
+    const sdf::Scene& scene = scenes[i];
+    const validation::SceneResult validated = validation::validate_scene(scene);
+    std::ostringstream printed;
+    validation::print_checks(validated, printed);
+    // A GLSL file's scene was made here: say how (the camera's framing, found by sampling).
+    if (scene.root.op == sdf::Op::glsl && !scene.description.empty()) printed << "  scene: " << scene.description << "\n";
+    results.scenes.push_back({i, printed.str(), validated});
+    out << results.scenes.back().printed;
+  }
+  return results;
 }
 
 }  // namespace
 
 int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& err) {
-  if (!cmd.march.empty()) return validate_user_marcher(cmd, out, err);
-  std::vector<sdf::Scene> scenes;
-  try {
-    for (const auto& name : cmd.scenes) {
-      if (name.ends_with(".glsl")) {
-        for (sdf::Scene& s : glsl_scenes(name, cmd.function, cmd.sets)) scenes.push_back(std::move(s));
-        continue;
-      }
-      const auto names = name == "all" ? sdf::builtin_scene_names() : std::vector<std::string>{name};
-      for (const auto& n : names) {
-        scenes.push_back(load_scene(n, cmd.sets));
-      }
-    }
-  } catch (const std::exception& e) {
-    err << "marchcheck validate: " << e.what() << "\n";
-    return kBadInput;
-  }
-  std::vector<validation::SceneResult> results;
-  for (const auto& scene : scenes) {
-    results.push_back(validation::validate_scene(scene));
-    validation::print_checks(results.back(), out);
-    // A GLSL file's scene was made here: say how (the camera's framing, found by sampling).
-    if (scene.root.op == sdf::Op::glsl && !scene.description.empty()) out << "  scene: " << scene.description << "\n";
-  }
-  return validate_status(cmd, results, err);
+  const auto work = [&](const validation::Shard& shard, std::ostream& shard_out, std::ostream&) {
+    return cmd.march.empty() ? validate_scenes(cmd, shard, shard_out) : validate_user_marchers(cmd, shard, shard_out);
+  };
+  const auto finish = [&](const ShardFile& whole, bool printed, std::ostream& whole_out, std::ostream& whole_err) {
+    return finish_validate(whole, printed, cmd.json, whole_out, whole_err);
+  };
+  return run_sharded({"validate", cmd.shard, cmd.json}, work, finish, out, err);
 }
 
 int run_stability(const StabilityCommand& cmd, std::ostream& out, std::ostream& err) {
@@ -378,18 +415,6 @@ std::string metric_text(const validation::SweepPoint& p, const std::string& name
   return it == p.metrics.end() ? "-" : format_value(it->second);
 }
 
-// The sweep's --json and --csv files: 0 written (or none asked), 2 one cannot be.
-int write_sweep_files(const SweepCommand& cmd, const validation::SweepResult& result, std::ostream& err) {
-  try {
-    if (cmd.json) files::write_bytes_atomically(*cmd.json, sweep_json(result));
-    if (cmd.csv) files::write_bytes_atomically(*cmd.csv, sweep_csv(result));
-  } catch (const std::exception& e) {
-    err << "marchcheck sweep: " << e.what() << "\n";
-    return kBadInput;
-  }
-  return 0;
-}
-
 // The sweep's table: each combination's settings, the error metric and the other columns, its place on the
 // fronts, its checks, and the cheapest that meets the targets.
 void print_sweep(const validation::SweepResult& result, const std::vector<std::string>& others, std::ostream& out) {
@@ -417,31 +442,78 @@ void draw_progress(std::ostream& err, size_t done, size_t total) {
       << "] " << done << "/" << total << (done == total ? "\n" : "") << std::flush;
 }
 
+// The finished sweep: its table (title, then the rows), and its --json and --csv files. 0, or 2 when a target or
+// the error metric names a metric no combination has, or a file cannot be written.
+int finish_sweep_run(const ShardFile& whole, const std::optional<std::string>& json, const std::optional<std::string>& csv,
+                     std::ostream& out, std::ostream& err) {
+  const validation::SweepResult& result = whole.sweep;
+  const auto known = [&](const std::string& metric) {
+    return std::any_of(result.points.begin(), result.points.end(), [&](const auto& p) { return p.metrics.count(metric) > 0; });
+  };
+  for (const auto& t : result.targets)
+    if (!known(t.metric)) {
+      err << "marchcheck sweep: --target " << t.metric << ": no combination has this metric\n";
+      return kBadInput;
+    }
+  if (!known(result.error_metric)) {
+    err << "marchcheck sweep: --error " << result.error_metric << ": no combination has this metric\n";
+    return kBadInput;
+  }
+  out << whole.table.title << "\n";
+  print_sweep(result, whole.table.columns, out);
+  try {
+    if (json) files::write_bytes_atomically(*json, sweep_json(result));
+    if (csv) files::write_bytes_atomically(*csv, sweep_csv(result));
+  } catch (const std::exception& e) {
+    err << "marchcheck sweep: " << e.what() << "\n";
+    return kBadInput;
+  }
+  return 0;
+}
+
+std::string sweep_settings_hash(const SweepCommand& cmd) {
+  std::vector<std::string> options = {"error=" + cmd.error_metric, "repeat=" + std::to_string(cmd.repeat),
+                                      "width=" + std::to_string(cmd.render_width), "march=" + cmd.march,
+                                      "normal=" + cmd.normal, "function=" + cmd.function};
+  for (const auto& v : cmd.vary) options.push_back("vary " + v);
+  for (const auto& t : cmd.targets) options.push_back("target " + t);
+  for (const auto& set : cmd.sets) options.push_back("set " + set);
+  return settings_hash(options);
+}
+
+validation::SweepOptions sweep_options(const SweepCommand& cmd, const validation::Shard& shard, std::ostream& progress) {
+  validation::SweepOptions options;
+  for (const auto& t : cmd.targets) options.targets.push_back(validation::parse_sweep_target(t));
+  options.error_metric = cmd.error_metric;
+  options.shard = shard;
+  if (cmd.progress) options.progress = [&progress](size_t done, size_t total) { draw_progress(progress, done, total); };
+  return options;
+}
+
 // A sweep of a GLSL file's own parameters, its own marcher judged at each combination on the GL driver; the
 // error axis hit.t_err_p99 unless asked, the cost its map calls per ray (in cost.evals_per_pixel: a ray a
 // sampled pixel) and the driver's seconds.
-int sweep_user_marcher(const SweepCommand& cmd, std::ostream& out, std::ostream& err) {
+ShardFile sweep_user_marcher(const SweepCommand& cmd, const validation::Shard& shard, std::ostream& progress) {
   const gpu::UserMarcher marcher{cmd.march, cmd.normal, cmd.function};
   std::vector<validation::SweepAxis> axes;
-  validation::SweepOptions options;
-  options.error_metric = cmd.error_metric == "image.rms" ? "hit.t_err_p99" : cmd.error_metric;  // no image here
-  if (cmd.progress) options.progress = [&err](size_t done, size_t total) { draw_progress(err, done, total); };
-  validation::SweepResult result;
-  try {
-    if (!cmd.scene.ends_with(".glsl")) throw sdf::SceneError(cmd.scene + ": --march runs a .glsl file's own marcher");
-    const UserShader shader = read_user_shader(cmd.scene);
-    for (const auto& v : cmd.vary) {
-      axes.push_back(validation::parse_sweep_axis(v));
-      if (!axes.back().key.starts_with("glsl."))
-        throw sdf::SceneError("--vary " + v + ": with --march, the axes are the shader's own (glsl.NAME)");
-      for (const auto& value : axes.back().values) {
-        UserShader probe = shader;  // every value applies before any work is done
-        set_shader_parameter(probe, axes.back().key.substr(5), value);
-      }
+  validation::SweepOptions options = sweep_options(cmd, shard, progress);
+  if (cmd.error_metric == "image.rms") options.error_metric = "hit.t_err_p99";  // no image here
+  if (!cmd.scene.ends_with(".glsl")) throw sdf::SceneError(cmd.scene + ": --march runs a .glsl file's own marcher");
+  const UserShader shader = read_user_shader(cmd.scene);
+  for (const auto& v : cmd.vary) {
+    axes.push_back(validation::parse_sweep_axis(v));
+    if (!axes.back().key.starts_with("glsl."))
+      throw sdf::SceneError("--vary " + v + ": with --march, the axes are the shader's own (glsl.NAME)");
+    for (const auto& value : axes.back().values) {
+      UserShader probe = shader;  // every value applies before any work is done
+      set_shader_parameter(probe, axes.back().key.substr(5), value);
     }
-    for (const auto& t : cmd.targets) options.targets.push_back(validation::parse_sweep_target(t));
-    std::string renderer;
-    result = validation::sweep_combinations(cmd.scene, axes, options, [&](validation::SweepPoint& point) {
+  }
+  std::string renderer;
+  try {
+    ShardFile results{{"sweep", content_hash(shader.path + "\n" + shader.text), sweep_settings_hash(cmd), program_version(),
+                       validation::combination_count(axes)}, shard, {}, {}, {}};
+    results.sweep = validation::sweep_combinations(cmd.scene, axes, options, [&](validation::SweepPoint& point) {
       UserShader s = shader;
       for (const auto& [key, value] : point.settings) set_shader_parameter(s, key.substr(5), value);
       sdf::Scene scene = user_marcher_scene(s, marcher);
@@ -454,68 +526,68 @@ int sweep_user_marcher(const SweepCommand& cmd, std::ostream& out, std::ostream&
       point.metrics["cost.seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       point.pass = judged.pass();
     });
-    out << cmd.scene << ", marcher " << cmd.march << " on " << renderer << ": " << result.points.size()
-        << " combinations (front: E = Pareto front of " << options.error_metric
-        << " against map calls per ray, S = against seconds, each a whole judged run)\n";
+    results.table = {cmd.scene + ", marcher " + cmd.march + " on " + renderer + ": " +
+                         std::to_string(results.configuration.items) + " combinations (front: E = Pareto front of " +
+                         options.error_metric + " against map calls per ray, S = against seconds, each a whole judged run)",
+                     {"hit.false_hit", "hit.false_miss", "hit.overshoot", "hit.undecided", "march.over_max_steps",
+                      "cost.evals_per_pixel", "cost.seconds"}};
+    return results;
   } catch (const gpu::DriverUnavailable& e) {
-    err << "marchcheck sweep: " << cmd.scene << ": no GL driver to run the marcher on: " << e.what() << "\n";
-    return kBadInput;
-  } catch (const std::exception& e) {
-    err << "marchcheck sweep: " << e.what() << "\n";
-    return kBadInput;
+    throw std::runtime_error(cmd.scene + ": no GL driver to run the marcher on: " + e.what());
   }
-  print_sweep(result, {"hit.false_hit", "hit.false_miss", "hit.overshoot", "hit.undecided", "march.over_max_steps",
-                       "cost.evals_per_pixel", "cost.seconds"}, out);
-  return write_sweep_files(cmd, result, err);
+}
+
+// A sweep of a scene's own settings.
+ShardFile sweep_scene(const SweepCommand& cmd, const validation::Shard& shard, std::ostream& progress) {
+  const sdf::Scene scene = load_scene(cmd.scene, cmd.sets);
+  std::vector<validation::SweepAxis> axes;
+  for (const auto& v : cmd.vary) axes.push_back(validation::parse_sweep_axis(v));
+  validation::SweepOptions options = sweep_options(cmd, shard, progress);
+  if (cmd.repeat < 1) throw sdf::SceneError("--repeat " + std::to_string(cmd.repeat) + ": expected at least 1");
+  if (cmd.render_width < 1) throw sdf::SceneError("--width " + std::to_string(cmd.render_width) + ": expected at least 1");
+  options.repeat = cmd.repeat;
+  options.render_width = cmd.render_width;
+  ShardFile results{{"sweep", scenes_hash({scene}), sweep_settings_hash(cmd), program_version(),
+                     validation::combination_count(axes)}, shard, validation::sweep(scene, axes, options), {}, {}};
+  std::ostringstream title;
+  title << scene.name << ": " << results.configuration.items << " combinations (front: E = Pareto front of "
+        << options.error_metric << " against evaluations, S = against seconds; seconds = median of " << options.repeat
+        << " renders at width " << std::min(options.render_width, scene.width) << ")";
+  results.table = {title.str(), {"hit.undecided", "hit.t_err_p99", "normal.angle_p99_deg", "cost.evals_per_pixel",
+                                 "cost.seconds"}};
+  return results;
 }
 
 }  // namespace
 
 int run_sweep(const SweepCommand& cmd, std::ostream& out, std::ostream& err) {
-  if (!cmd.march.empty()) return sweep_user_marcher(cmd, out, err);
-  sdf::Scene scene;
-  std::vector<validation::SweepAxis> axes;
-  validation::SweepOptions options;
-  try {
-    scene = load_scene(cmd.scene, cmd.sets);
-    for (const auto& v : cmd.vary) axes.push_back(validation::parse_sweep_axis(v));
-    for (const auto& t : cmd.targets) options.targets.push_back(validation::parse_sweep_target(t));
-    if (cmd.repeat < 1) throw sdf::SceneError("--repeat " + std::to_string(cmd.repeat) + ": expected at least 1");
-    if (cmd.render_width < 1) throw sdf::SceneError("--width " + std::to_string(cmd.render_width) + ": expected at least 1");
-  } catch (const std::exception& e) {
-    err << "marchcheck sweep: " << e.what() << "\n";
-    return kBadInput;
-  }
-  options.error_metric = cmd.error_metric;
-  options.repeat = cmd.repeat;
-  options.render_width = cmd.render_width;
-  if (cmd.progress) options.progress = [&err](size_t done, size_t total) { draw_progress(err, done, total); };
-  validation::SweepResult result;
-  try {
-    result = validation::sweep(scene, axes, options);
-  } catch (const sdf::SceneError& e) {
-    err << "marchcheck sweep: " << e.what() << "\n";
-    return kBadInput;
-  }
-  const auto known = [&](const std::string& metric) {
-    return std::any_of(result.points.begin(), result.points.end(), [&](const auto& p) { return p.metrics.count(metric) > 0; });
+  const auto work = [&](const validation::Shard& shard, std::ostream&, std::ostream& progress) {
+    return cmd.march.empty() ? sweep_scene(cmd, shard, progress) : sweep_user_marcher(cmd, shard, progress);
   };
-  for (const auto& t : options.targets)
-    if (!known(t.metric)) {
-      err << "marchcheck sweep: --target " << t.metric << ": no combination has this metric\n";
-      return kBadInput;
+  const auto finish = [&](const ShardFile& whole, bool, std::ostream& whole_out, std::ostream& whole_err) {
+    return finish_sweep_run(whole, cmd.json, cmd.csv, whole_out, whole_err);
+  };
+  return run_sharded({"sweep", cmd.shard, cmd.json}, work, finish, out, err);
+}
+
+int run_merge(const MergeCommand& cmd, std::ostream& out, std::ostream& err) {
+  ShardFile whole;
+  try {
+    std::vector<NamedText> pieces;
+    for (const auto& path : cmd.shards) {
+      const std::optional<std::string> text = sdf::read_text_file(path);
+      if (!text) throw ResultFileError(path + ": cannot read the file");
+      pieces.push_back({path, *text});
     }
-  if (!known(options.error_metric)) {
-    err << "marchcheck sweep: --error " << options.error_metric << ": no combination has this metric\n";
+    whole = merge_shards(pieces);
+    if (whole.configuration.kind == "validate" && cmd.csv)
+      throw ResultFileError("--csv: a validate run has no CSV file, only a sweep");
+  } catch (const std::exception& e) {
+    err << "marchcheck merge: " << e.what() << "\n";
     return kBadInput;
   }
-
-  out << scene.name << ": " << result.points.size() << " combinations (front: E = Pareto front of "
-      << options.error_metric << " against evaluations, S = against seconds; seconds = median of " << options.repeat
-      << " renders at width " << std::min(options.render_width, scene.width) << ")\n";
-  print_sweep(result, {"hit.undecided", "hit.t_err_p99", "normal.angle_p99_deg", "cost.evals_per_pixel",
-                       "cost.seconds"}, out);
-  return write_sweep_files(cmd, result, err);
+  if (whole.configuration.kind == "sweep") return finish_sweep_run(whole, cmd.output, cmd.csv, out, err);
+  return finish_validate(whole, false, cmd.output, out, err);
 }
 
 int run_compare(const CompareCommand& cmd, std::ostream& out, std::ostream& err) {

@@ -94,13 +94,20 @@ SweepResult sweep(const sdf::Scene& scene, const std::vector<SweepAxis>& axes, c
   });
 }
 
+size_t combination_count(const std::vector<SweepAxis>& axes) {
+  size_t total = 1;
+  for (const auto& axis : axes) total *= axis.values.size();
+  return total;
+}
+
 SweepResult sweep_combinations(const std::string& name, const std::vector<SweepAxis>& axes,
                                const SweepOptions& options, const std::function<void(SweepPoint&)>& measure) {
   SweepResult result{name, axes, options.error_metric, options.targets, {}, std::nullopt};
-  size_t total = 1;
-  for (const auto& axis : axes) total *= axis.values.size();
+  const size_t total = combination_count(axes), held = options.shard.share_of(total);
   for (size_t index = 0; index < total; ++index) {
+    if (!options.shard.holds(index)) continue;
     SweepPoint point;
+    point.index = index;
     size_t rest = index;
     std::vector<size_t> digits(axes.size());
     for (size_t a = axes.size(); a-- > 0;) {
@@ -109,22 +116,27 @@ SweepResult sweep_combinations(const std::string& name, const std::vector<SweepA
     }
     for (size_t a = 0; a < axes.size(); ++a) point.settings.emplace_back(axes[a].key, axes[a].values[digits[a]]);
     measure(point);
-    point.meets_targets = std::all_of(options.targets.begin(), options.targets.end(), [&](const SweepTarget& t) {
+    result.points.push_back(std::move(point));
+    if (options.progress) options.progress(result.points.size(), held);
+  }
+  if (options.shard.whole()) finish_sweep(result);
+  return result;
+}
+
+void finish_sweep(SweepResult& result) {
+  for (auto& point : result.points)
+    point.meets_targets = std::all_of(result.targets.begin(), result.targets.end(), [&](const SweepTarget& t) {
       return metric_or_nan(point, t.metric) <= t.value;
     });
-    result.points.push_back(std::move(point));
-    if (options.progress) options.progress(index + 1, total);
+  mark_pareto(result.points, result.error_metric);
+  result.cheapest_meeting.reset();
+  if (result.targets.empty()) return;
+  for (size_t i = 0; i < result.points.size(); ++i) {
+    if (!result.points[i].meets_targets) continue;
+    if (!result.cheapest_meeting || metric_or_nan(result.points[i], "cost.evals_per_pixel") <
+                                        metric_or_nan(result.points[*result.cheapest_meeting], "cost.evals_per_pixel"))
+      result.cheapest_meeting = i;
   }
-  mark_pareto(result.points, options.error_metric);
-  if (!options.targets.empty()) {
-    for (size_t i = 0; i < result.points.size(); ++i) {
-      if (!result.points[i].meets_targets) continue;
-      if (!result.cheapest_meeting || metric_or_nan(result.points[i], "cost.evals_per_pixel") <
-                                          metric_or_nan(result.points[*result.cheapest_meeting], "cost.evals_per_pixel"))
-        result.cheapest_meeting = i;
-    }
-  }
-  return result;
 }
 
 }  // namespace marchcheck::validation

@@ -53,7 +53,10 @@ struct ValidateCommand {
   // A .glsl file's own marcher and normal function, run on the GL driver and judged instead of marchcheck's
   // marching of its field (see gpu::UserMarcher for their forms).
   std::string march, normal;
+  // "I/N": validate only the scenes i with i mod N = I and write them to --json as a shard file (see merge).
+  std::optional<std::string> shard;
 };
+// Under mpirun (built with MPI), each rank validates its share and rank 0 merges and writes the whole.
 int run_validate(const ValidateCommand& cmd, std::ostream& out, std::ostream& err);
 
 struct StabilityCommand {
@@ -80,8 +83,19 @@ struct SweepCommand {
   // A .glsl scene's own marcher on the GL driver (as validate's --march), its axes the shader's own parameters:
   // glsl.NAME for a #define or a uniform.
   std::string march, normal, function = "map";
+  std::optional<std::string> shard;  // "I/N": only the combinations i with i mod N = I, to --json as a shard file
 };
+// Under mpirun (built with MPI), each rank sweeps its share and rank 0 merges, prints and writes the whole.
 int run_sweep(const SweepCommand& cmd, std::ostream& out, std::ostream& err);
+
+struct MergeCommand {
+  std::vector<std::string> shards;  // the shard files of one sweep or validate run, in any order
+  std::optional<std::string> output;  // the run's --json file, as the single process writes it
+  std::optional<std::string> csv;     // a sweep's --csv file
+};
+// The shards put together: the run's table and files exactly as one process makes them. 2 when a shard is missing,
+// repeated, or from another run (the message names it); otherwise the run's own status (validate: 1 a scene failed).
+int run_merge(const MergeCommand& cmd, std::ostream& out, std::ostream& err);
 
 struct CompareCommand {
   std::string baseline, current;

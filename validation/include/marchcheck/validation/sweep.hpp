@@ -4,6 +4,7 @@
 #pragma once
 
 #include "marchcheck/sdf/scene.hpp"
+#include "marchcheck/validation/shard.hpp"
 #include "marchcheck/validation/validate.hpp"
 
 #include <functional>
@@ -36,10 +37,12 @@ struct SweepOptions {
   int render_width = 640;                  // width of the timed render (the scene's own when smaller)
   std::vector<SweepTarget> targets;
   ValidateOptions validate;
-  std::function<void(size_t done, size_t total)> progress;
+  std::function<void(size_t done, size_t total)> progress;  // total: the combinations this shard holds
+  Shard shard;  // measure only these combinations; the fronts and the cheapest wait for the merge (finish_sweep)
 };
 
 struct SweepPoint {
+  size_t index = 0;  // in the cartesian product, which fixes the order of points in every result file
   std::vector<std::pair<std::string, std::string>> settings;  // key, value in axis order
   std::map<std::string, double> metrics;  // validate's metrics; cost.* from the timed render
   bool pass = false;                      // every check passed
@@ -53,20 +56,28 @@ struct SweepResult {
   std::vector<SweepAxis> axes;
   std::string error_metric;
   std::vector<SweepTarget> targets;
-  std::vector<SweepPoint> points;          // the cartesian product, the last axis varying fastest
+  std::vector<SweepPoint> points;          // the cartesian product, the last axis varying fastest (a shard: its own)
   std::optional<size_t> cheapest_meeting;  // fewest evaluations among the points meeting every target
 };
 
-// Throws sdf::SceneError when a key or value does not apply to the scene (before any work is done).
+// The number of combinations of the axes.
+size_t combination_count(const std::vector<SweepAxis>& axes);
+
+// Throws sdf::SceneError when a key or value does not apply to the scene (before any work is done). With a shard,
+// the result holds that shard's points, measured but not finished.
 SweepResult sweep(const sdf::Scene& scene, const std::vector<SweepAxis>& axes, const SweepOptions& options = {});
 
-// Every combination of the axes (the last varying fastest), measured by `measure` (given the point with its
-// settings: it fills metrics, cost.evals_per_pixel and cost.seconds among them, and pass), then which meet the
-// targets, the Pareto fronts and the cheapest meeting them: what sweep does for a scene's own settings, and what a
-// sweep of anything else (a user's shader parameters) does too.
+// Every combination of the axes (the last varying fastest) that the options' shard holds, measured by `measure`
+// (given the point with its settings: it fills metrics, cost.evals_per_pixel and cost.seconds among them, and
+// pass), then, when the shard is the whole, finished: what sweep does for a scene's own settings, and what a sweep
+// of anything else (a user's shader parameters) does too.
 SweepResult sweep_combinations(const std::string& name, const std::vector<SweepAxis>& axes,
                                const SweepOptions& options, const std::function<void(SweepPoint&)>& measure);
-// Marks which points no other point dominates on (error, cost); points without the error metric are never on it.
+// What depends on every point, computed once all are there (in one process or after a merge) and in index order:
+// which meet the targets, the Pareto fronts (no other point has both less error and less cost; points without the
+// error metric are never on them) and the cheapest meeting the targets.
+void finish_sweep(SweepResult& result);
+// The fronts alone: marks which points no other point dominates on (error, cost).
 void mark_pareto(std::vector<SweepPoint>& points, const std::string& error_metric);
 
 }  // namespace marchcheck::validation
