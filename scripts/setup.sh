@@ -11,6 +11,7 @@ packages=(
   python3 python3-matplotlib chromium  # plots and the report's browser test
   clang libclang-rt-dev  # scripts/fuzz.sh: libFuzzer and clang's sanitizer runtimes
   strace  # .ci/run: ../shared/tools/fresh-deps replays the configure step under it
+  libopenmpi-dev openmpi-bin  # sweep and validate under mpirun (optional: the build works without them)
 )
 missing=()
 for p in "${packages[@]}"; do

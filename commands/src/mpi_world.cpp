@@ -66,11 +66,6 @@ std::vector<std::string> gather_to_root(const std::string& piece) {
   return pieces;
 }
 
-int status_from_root(int status) {
-  MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  return status;
-}
-
 #else
 
 std::optional<MpiWorld> launched_world() {
@@ -83,7 +78,6 @@ std::optional<MpiWorld> launched_world() {
 
 // Without MPI there is never a world to gather in: launched_world() has none.
 std::vector<std::string> gather_to_root(const std::string& piece) { return {piece}; }
-int status_from_root(int status) { return status; }
 
 #endif
 

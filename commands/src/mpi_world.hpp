@@ -19,7 +19,5 @@ std::optional<MpiWorld> launched_world();
 
 // Collective: every rank's piece, in rank order, at rank 0; nothing at the others.
 std::vector<std::string> gather_to_root(const std::string& piece);
-// Collective: rank 0's status, at every rank.
-int status_from_root(int status);
 
 }  // namespace marchcheck::commands

@@ -58,8 +58,8 @@ int finish_at_root(const ShardedRun& run, const std::vector<std::string>& pieces
   }
 }
 
-// One rank of an MPI job: its shard's work, gathered to rank 0, which finishes the run; every rank exits with
-// rank 0's status.
+// One rank of an MPI job: its shard's work, gathered to rank 0, which finishes the run. The other ranks exit 0:
+// mpirun exits with the status of the first rank that fails.
 int run_rank(const ShardedRun& run, const MpiWorld& world, const ShardWork& work, const WholeFinish& finish,
              std::ostream& out, std::ostream& err) {
   std::string piece;
@@ -72,7 +72,7 @@ int run_rank(const ShardedRun& run, const MpiWorld& world, const ShardWork& work
     piece = rank_piece(kBadInput, e.what());
   }
   const std::vector<std::string> pieces = gather_to_root(piece);
-  return status_from_root(world.rank == 0 ? finish_at_root(run, pieces, finish, out, err) : 0);
+  return world.rank == 0 ? finish_at_root(run, pieces, finish, out, err) : 0;
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #include "command_run.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <array>
 #include <cstdio>
@@ -195,6 +196,101 @@ TEST_F(Cli, SweepWritesEveryCombinationAndRejectsBadAxes) {
     EXPECT_NE(bad.output.find(message), std::string::npos) << args << "\n" << bad.output;
   }
 }
+
+// A result file without its wall times (cost.seconds, each stage's seconds, and the seconds front that follows
+// from them): the only fields in which two runs of the same work may differ.
+std::string without_wall_times(const std::string& text) {
+  const auto strip = [](auto& self, nlohmann::ordered_json& j) -> void {
+    if (j.is_array())
+      for (auto& e : j) self(self, e);
+    if (!j.is_object()) return;
+    for (auto it = j.begin(); it != j.end();) {
+      if (it.key().ends_with("seconds")) {
+        it = j.erase(it);
+      } else {
+        self(self, it.value());
+        ++it;
+      }
+    }
+  };
+  nlohmann::ordered_json j = nlohmann::ordered_json::parse(text);
+  strip(strip, j);
+  return j.dump(1);
+}
+
+// 12 combinations of a small crum-torus: about 0.1 s each.
+const std::string kShardedSweep = "sweep crum-torus --vary marcher=sphere,relaxed --vary hit_eps=1e-3,1e-4 --vary "
+                                  "max_steps=32,64,128 --set width=64 --set height=36 --repeat 1 --width 64";
+
+TEST_F(Cli, ASweepInShardsMergesIntoTheSingleProcesssFile) {
+  ASSERT_EQ(run(kShardedSweep + " --json " + path("single.json")).status, 0);
+  for (int i = 0; i < 3; ++i) {
+    const CommandRun shard = run(kShardedSweep + " --shard " + std::to_string(i) + "/3 --json " + path("s" + std::to_string(i)));
+    ASSERT_EQ(shard.status, 0) << shard.output;
+    EXPECT_NE(shard.output.find("4 of 12 combinations"), std::string::npos) << shard.output;
+  }
+  // In any order: the merge orders by index.
+  const CommandRun merged = run("merge " + path("s2") + " " + path("s0") + " " + path("s1") + " -o " + path("merged.json"));
+  ASSERT_EQ(merged.status, 0) << merged.output;
+  EXPECT_NE(merged.output.find("crum-torus: 12 combinations"), std::string::npos) << merged.output;
+  ASSERT_FALSE(contents("merged.json").empty());
+  EXPECT_EQ(without_wall_times(contents("merged.json")), without_wall_times(contents("single.json")));
+  EXPECT_EQ(run("compare " + path("single.json") + " " + path("merged.json")).status, 0);
+
+  // Refused, writing nothing: a missing shard, and a shard of another configuration (another time of the scene).
+  expect_bad_input("merge " + path("s0") + " " + path("s2") + " -o " + path("none.json"), "shard 1/3 is missing (4 items)");
+  ASSERT_EQ(run(kShardedSweep + " --set time=1 --shard 1/3 --json " + path("other")).status, 0);
+  expect_bad_input("merge " + path("s0") + " " + path("other") + " " + path("s2") + " -o " + path("none.json"),
+                   path("other") + ": not from the same run as " + path("s0") + ": its scenes differ");
+  expect_bad_input("merge " + path("s0") + " " + path("s0") + " -o " + path("none.json"), "are both shard 0/3");
+  expect_bad_input("merge " + path("single.json"), "not a shard file");
+  EXPECT_FALSE(std::filesystem::exists(path("none.json")));
+  expect_bad_input(kShardedSweep + " --shard 1/3", "--shard 1/3: needs --json FILE");
+  expect_bad_input(kShardedSweep + " --shard 3/3 --json " + path("x"), "the index must be below 3");
+}
+
+TEST_F(Cli, AValidateInShardsMergesIntoTheSingleProcesssTableFileAndStatus) {
+  // One scene fails (the defect variant): the status, as the table and the file, is the whole run's.
+  const std::string scenes = "validate crum-torus crum-torus-defect-fov lee-flat";
+  const CommandRun single = run(scenes + " --json " + path("single.json"));
+  ASSERT_EQ(single.status, 1) << single.output;
+  EXPECT_EQ(run(scenes + " --shard 0/2 --json " + path("v0")).status, 0);
+  EXPECT_EQ(run(scenes + " --shard 1/2 --json " + path("v1")).status, 1);  // holds the defect variant
+  const CommandRun merged = run("merge " + path("v1") + " " + path("v0") + " -o " + path("merged.json"));
+  EXPECT_EQ(merged.status, 1) << merged.output;
+  EXPECT_EQ(merged.output, single.output);
+  EXPECT_EQ(without_wall_times(contents("merged.json")), without_wall_times(contents("single.json")));
+  expect_bad_input("merge " + path("v0") + " " + path("v1") + " --csv " + path("v.csv"), "a validate run has no CSV");
+}
+
+#ifdef MARCHCHECK_MPIRUN
+// mpirun as CI runs it: as root, more ranks than cores, shared memory only.
+const std::string kMpirun = std::string(MARCHCHECK_MPIRUN) + " --allow-run-as-root --oversubscribe --mca btl self,vader ";
+
+TEST_F(Cli, ASweepUnderMpirunWritesTheSingleProcesssFileFromRankZero) {
+  const std::string marchcheck = std::string(MARCHCHECK_BINARY) + " ";
+  ASSERT_EQ(run(kShardedSweep + " --json " + path("single.json")).status, 0);
+  const CommandRun ranks = run_shell(kMpirun + "-n 3 " + marchcheck + kShardedSweep + " --json " + path("mpi.json"));
+  ASSERT_EQ(ranks.status, 0) << ranks.output;
+  EXPECT_EQ(without_wall_times(contents("mpi.json")), without_wall_times(contents("single.json")));
+  // One rank of another configuration, or one that fails, fails the run with its message and writes nothing.
+  const CommandRun other = run_shell(kMpirun + "-n 2 " + marchcheck + kShardedSweep + " --json " + path("bad.json") +
+                                     " : -n 1 " + marchcheck + kShardedSweep + " --set time=1 --json " + path("bad.json"));
+  EXPECT_EQ(other.status, 2) << other.output;
+  EXPECT_NE(other.output.find("rank 2: not from the same run as rank 0: its scenes differ"), std::string::npos) << other.output;
+  const CommandRun failed = run_shell(kMpirun + "-n 2 " + marchcheck + kShardedSweep + " --json " + path("bad.json") +
+                                      " : -n 1 " + marchcheck + kShardedSweep + " --set width=0 --json " + path("bad.json"));
+  EXPECT_EQ(failed.status, 2) << failed.output;
+  EXPECT_NE(failed.output.find("marchcheck sweep: rank 2: --set width"), std::string::npos) << failed.output;
+  EXPECT_FALSE(std::filesystem::exists(path("bad.json")));
+}
+#else
+TEST_F(Cli, AnMpiLaunchOfABuildWithoutMpiIsRefused) {
+  const CommandRun r = run_shell("OMPI_COMM_WORLD_SIZE=3 " + std::string(MARCHCHECK_BINARY) + " " + kShardedSweep);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("built without MPI, so each would do the whole run"), std::string::npos) << r.output;
+}
+#endif
 
 TEST_F(Cli, CompareExitsOneOnAWorseMetricZeroOnTheSameFileTwoOnBadInput) {
   ASSERT_EQ(run("validate crum-torus --json " + path("base.json")).status, 0);
