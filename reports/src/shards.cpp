@@ -216,13 +216,13 @@ ShardFile merge_shards(const std::vector<NamedText>& pieces) {
                             std::to_string(missing.share_of(shards.front().configuration.items)) +
                             " items); merging " + std::to_string(named.size()) + " of " + std::to_string(count) + " shards");
     }
-  ShardFile whole = shards.front();
-  whole.shard = {};
-  whole.sweep.points.clear();
-  whole.scenes.clear();
   // Item i is the (i / count)-th of shard i mod count: the order is the index's, whatever order the pieces came in.
   std::vector<const ShardFile*> by_index(count);
   for (const auto& s : shards) by_index[s.shard.index] = &s;
+  ShardFile whole = *by_index[0];  // what is not an item (the sweep's table) from shard 0, as in one process
+  whole.shard = {};
+  whole.sweep.points.clear();
+  whole.scenes.clear();
   for (size_t i = 0; i < whole.configuration.items; ++i) {
     const ShardFile& from = *by_index[i % count];
     if (whole.configuration.kind == "sweep") whole.sweep.points.push_back(from.sweep.points[i / count]);
