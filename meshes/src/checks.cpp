@@ -1,5 +1,7 @@
 #include "marchcheck/meshes/checks.hpp"
 
+#include "self_intersections.hpp"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -137,6 +139,8 @@ MeshReport inspect(const Mesh& mesh) {
   report.manifold = report.nonmanifold_edges == 0 && report.nonmanifold_vertices == 0;
   report.consistently_oriented = consistent;
   report.outward = report.closed && consistent && report.signed_volume > 0;
+  if (report.closed && report.manifold && consistent && report.degenerate_faces == 0)
+    report.crossing_triangles = crossing_triangles(mesh);
   return report;
 }
 
@@ -149,6 +153,17 @@ std::string solid_problem(const MeshReport& r) {
   if (r.nonmanifold_vertices > 0)
     return "non-manifold: " + count(r.nonmanifold_vertices, "pinched vertices (their faces form no single fan)");
   if (!r.consistently_oriented) return "inconsistently oriented: faces sharing an edge run along it the same way";
+  if (!r.crossing_triangles.empty()) {
+    // The first few pairs, counted from 1 as the faces come in the file (after polygons are split into triangles).
+    std::string pairs;
+    constexpr std::size_t kShown = 3;
+    for (std::size_t i = 0; i < std::min(kShown, r.crossing_triangles.size()); ++i)
+      pairs += (i ? ", " : "") + std::to_string(r.crossing_triangles[i][0] + 1) + " and " +
+               std::to_string(r.crossing_triangles[i][1] + 1);
+    return "self-intersecting: " + std::to_string(r.crossing_triangles.size()) + " pairs of triangles pass through "
+           "each other (triangles " + pairs + (r.crossing_triangles.size() > kShown ? ", ..." : "") +
+           "), so the mesh has no single inside and its distance no sign";
+  }
   return "";
 }
 

@@ -358,6 +358,12 @@ TEST_F(Cli, BadMeshFilesInASceneExitTwoNamingTheMeshFile) {
       {"garbage.obj", std::string(kGarbage, sizeof kGarbage - 1), "garbage.obj"},
       {"nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n", "nan.obj"},
       {"index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 9\n", "index.obj"},
+      // A box whose corner 8 is pushed down through the bottom: closed and manifold, but it has no single inside
+      // (rendered with status 0 before the crossing test).
+      {"folded.obj",
+       "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 0.5 -3 0.5\n"
+       "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\nf 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n",
+       "folded.obj: self-intersecting: "},
   };
   for (const auto& c : cases) {
     std::ofstream(path(c.file), std::ios::binary) << c.text;

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <vector>
@@ -64,6 +65,33 @@ inline double box_distance(dvec3 p, dvec3 half) {
   const dvec3 q = glm::abs(p) - half;
   const double outside = glm::length(glm::max(q, dvec3(0)));
   return std::fabs(outside + std::min(std::max(q.x, std::max(q.y, q.z)), 0.0));
+}
+
+// Two cones of n sides meeting tip to tip at the origin (bases at y = +-1, radius 1), outward: every edge has two
+// faces, but the tip is one vertex with two fans, so the mesh is closed yet pinched (not manifold there).
+inline Mesh pinched_double_cone(int n = 16) {
+  Mesh m;
+  m.vertices.push_back(dvec3(0));  // the shared tip
+  for (const double y : {1.0, -1.0}) {
+    const auto centre = static_cast<std::uint32_t>(m.vertices.size());
+    m.vertices.push_back(dvec3(0, y, 0));
+    for (int i = 0; i < n; ++i) {
+      const double a = 2 * 3.14159265358979323846 * i / n;
+      m.vertices.push_back(dvec3(std::cos(a), y, std::sin(a)));
+    }
+    for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(n); ++i) {
+      const std::uint32_t r0 = centre + 1 + i, r1 = centre + 1 + (i + 1) % static_cast<std::uint32_t>(n);
+      // Counter-clockwise seen from outside: the upper cone's base faces +y, the lower's -y.
+      if (y > 0) {
+        m.triangles.push_back({centre, r1, r0});
+        m.triangles.push_back({0, r0, r1});
+      } else {
+        m.triangles.push_back({centre, r0, r1});
+        m.triangles.push_back({0, r1, r0});
+      }
+    }
+  }
+  return m;
 }
 
 // Every mesh check clean: closed, manifold, outward, no degenerate faces or duplicate vertices.

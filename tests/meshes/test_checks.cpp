@@ -136,6 +136,54 @@ TEST(Inspect, TwoClosedPiecesTouchingAtAVertexArePinched) {
   EXPECT_DOUBLE_EQ(r.signed_volume, 16);
 }
 
+// A closed, manifold, consistently oriented box with its corner 7 (+1, +1, +1) pushed down through the bottom: the
+// six triangles around it pass through the bottom face (triangles 4 and 5, y = -1) and nowhere else.
+Mesh folded_box() {
+  Mesh m = box({1, 1, 1}).mesh;
+  m.vertices[7] = dvec3(0.5, -3, 0.5);
+  return m;
+}
+
+// Broken variants: no crossing test (the fold is taken for a solid); faces that share an edge or a vertex counted
+// as crossing (every solid would be refused).
+TEST(Inspect, AFoldedBoxPassesThroughItself) {
+  const Mesh m = folded_box();
+  const MeshReport r = inspect(m);
+  ASSERT_TRUE(r.closed && r.manifold && r.consistently_oriented && r.degenerate_faces == 0);
+  ASSERT_FALSE(r.crossing_triangles.empty());
+  for (const auto& [a, b] : r.crossing_triangles) {
+    const auto uses_corner = [&](std::size_t t) { return std::ranges::count(m.triangles[t], 7u) == 1; };
+    EXPECT_LT(a, b);
+    EXPECT_TRUE((uses_corner(a) && (b == 4 || b == 5)) || (uses_corner(b) && (a == 4 || a == 5))) << a << " " << b;
+  }
+  const std::string problem = solid_problem(r);
+  EXPECT_EQ(problem.rfind("self-intersecting: " + std::to_string(r.crossing_triangles.size()) + " pairs", 0), 0u)
+      << problem;
+  // Counted from 1, as a file numbers its faces.
+  EXPECT_NE(problem.find("triangles " + std::to_string(r.crossing_triangles[0][0] + 1) + " and " +
+                         std::to_string(r.crossing_triangles[0][1] + 1)),
+            std::string::npos)
+      << problem;
+}
+
+TEST(Inspect, SolidsWhoseFacesMeetOnlyAtSharedEdgesDoNotCross) {
+  for (const Mesh& m : {sphere(), box({1, 2, 3}).mesh, notched_box({1, 0.7, 0.6}).mesh, torus(1, 0.3, 24, 12).mesh}) {
+    const MeshReport r = inspect(m);
+    EXPECT_TRUE(r.crossing_triangles.empty()) << r.crossing_triangles.size();
+    EXPECT_EQ(solid_problem(r), "");
+  }
+}
+
+// The crossing test runs on solid topology only: an open fold reports its boundary, not crossings.
+TEST(Inspect, CrossingsAreNotTestedWhereTheTopologyIsAlreadyNoSolids) {
+  Mesh m = folded_box();
+  m.triangles.pop_back();
+  const MeshReport r = inspect(m);
+  EXPECT_FALSE(r.closed);
+  EXPECT_TRUE(r.crossing_triangles.empty());
+  EXPECT_EQ(solid_problem(r).rfind("open: ", 0), 0u);
+}
+
 TEST(Inspect, DuplicateVerticesAreCounted) {
   Mesh m = sphere();
   m.vertices.push_back(m.vertices[3]);

@@ -4,6 +4,7 @@
 #include "marchcheck/sdf/mesh_distance.hpp"
 #include "marchcheck/sdf/tape.hpp"
 #include "marchcheck/validation/mesh_reference.hpp"
+#include "../meshes/mesh_test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -241,9 +242,14 @@ TEST(MeshNode, RefusesMeshesWithoutAnInside) {
     pinched.triangles.push_back(t);
   }
   throws_with(pinched, "pinched");
+  throws_with(meshes::test::pinched_double_cone(), "pinched");
   meshes::Mesh repeated = meshes::box({1, 1, 1}).mesh;
   repeated.triangles.push_back({0, 1, 0});
   throws_with(repeated, "degenerate");
+  // Closed, manifold and consistently oriented, but corner 7 pushed through the bottom: no single inside.
+  meshes::Mesh folded = meshes::box({1, 1, 1}).mesh;
+  folded.vertices[7] = glm::dvec3(0.5, -3, 0.5);
+  throws_with(folded, "self-intersecting");
 }
 
 TEST(MeshNode, DualGradientIsTheUnitDirectionOfSteepestAscent) {

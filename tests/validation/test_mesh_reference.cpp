@@ -4,6 +4,7 @@
 #include "marchcheck/meshes/io.hpp"
 #include "marchcheck/meshes/procedural.hpp"
 #include "marchcheck/validation/gtest_helpers.hpp"
+#include "../meshes/mesh_test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -63,6 +64,37 @@ TEST(MeshReference, EveryFileFormatGivesTheSameDistances) {
       EXPECT_NEAR(*loaded.signed_distance(p), *original.signed_distance(p), 1e-6) << ext;
   }
   std::filesystem::remove_all(dir);
+}
+
+// A pinched vertex: the reference gives no sign (it once built its inside test from the faces CGAL's add_face
+// took, dropped those around the pinch, and was wrong at 2% of points near it), while its distances and ray hits
+// use every face. Broken variants: the inside test built anyway; a face left out of the soup.
+TEST(MeshReference, APinchedMeshGetsNoSignAndKeepsEveryFace) {
+  const meshes::Mesh cone = meshes::test::pinched_double_cone();
+  const meshes::MeshReport report = meshes::inspect(cone);
+  ASSERT_TRUE(report.closed && report.consistently_oriented);
+  ASSERT_EQ(report.nonmanifold_vertices, 1);
+  const MeshReference ref(cone);
+  EXPECT_FALSE(ref.closed());
+  int checked = 0;
+  std::mt19937 rng(19);
+  std::uniform_real_distribution<double> u(-1.3, 1.3);
+  for (int i = 0; i < 400; ++i) {
+    const dvec3 p(u(rng), u(rng), u(rng));
+    EXPECT_FALSE(ref.signed_distance(p).has_value());
+    // Brute force over every face (mesh_test_support) to double rounding at unit scale.
+    EXPECT_NEAR(ref.unsigned_distance(p), meshes::test::mesh_distance(cone, p), 1e-12) << p.x << " " << p.y << " " << p.z;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 400);
+  // Straight down the axis from above: the upper base at y = 1, whichever faces CGAL would have kept.
+  const ReferenceHit down = ref.first_hit({0.01, 3, 0.02}, {0, -1, 0}, 10);
+  ASSERT_TRUE(down.hit);
+  EXPECT_NEAR(down.t, 2, 1e-12);
+  // From below, through the lower cone's base at y = -1 (the part a dropped fan would lose).
+  const ReferenceHit up = ref.first_hit({0.01, -3, 0.02}, {0, 1, 0}, 10);
+  ASSERT_TRUE(up.hit);
+  EXPECT_NEAR(up.t, 2, 1e-12);
 }
 
 TEST(MeshReference, OpenMeshesGiveUnsignedDistancesOnly) {

@@ -1,14 +1,13 @@
 // CGAL lives in this file alone: it is slow to compile and adds -frounding-math to whatever links it.
 #include "marchcheck/validation/mesh_reference.hpp"
 
+#include "marchcheck/meshes/cgal_surface.hpp"
 #include "marchcheck/meshes/checks.hpp"
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Side_of_triangle_mesh.h>
-#include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
 #include <iterator>
@@ -18,8 +17,8 @@ namespace marchcheck::validation {
 
 namespace {
 
-using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-using SurfaceMesh = CGAL::Surface_mesh<K::Point_3>;
+using K = meshes::cgal::Kernel;
+using SurfaceMesh = meshes::cgal::SurfaceMesh;
 using Triangles = std::vector<K::Triangle_3>;
 // A triangle soup: distances and ray hits work for any mesh, open or non-manifold.
 using Primitive = CGAL::AABB_triangle_primitive<K, Triangles::const_iterator>;
@@ -43,10 +42,10 @@ MeshReference::MeshReference(const meshes::Mesh& mesh) : impl_(std::make_unique<
     impl_->triangles.emplace_back(point(mesh.vertices[t[0]]), point(mesh.vertices[t[1]]), point(mesh.vertices[t[2]]));
   impl_->tree = std::make_unique<Tree>(impl_->triangles.begin(), impl_->triangles.end());
   impl_->tree->accelerate_distance_queries();
-  if (meshes::solid_problem(meshes::inspect(mesh)).empty()) {  // a solid: the inside test is defined
-    std::vector<SurfaceMesh::Vertex_index> ids;
-    for (const auto& v : mesh.vertices) ids.push_back(impl_->surface.add_vertex(point(v)));
-    for (const auto& t : mesh.triangles) impl_->surface.add_face(ids[t[0]], ids[t[1]], ids[t[2]]);
+  // Only a solid has an inside; its surface holds every face or surface_mesh throws (a reference that dropped the
+  // faces around a pinch once answered wrongly beside it).
+  if (meshes::solid_problem(meshes::inspect(mesh)).empty()) {
+    impl_->surface = meshes::cgal::surface_mesh(mesh);
     impl_->inside = std::make_unique<Inside>(impl_->surface);
     // The inside test builds its own tree on first use: build it now, while no other thread can call it.
     (*impl_->inside)(point(mesh.vertices[0] + glm::dvec3(1e-3)));

@@ -226,8 +226,17 @@ double peak_rss_mib() {
   return static_cast<double>(u.ru_maxrss) / 1024;  // Linux reports KiB
 }
 
-// A generated sphere mesh (1.3M triangles with --full): generation, checks, tree and queries within the
-// stated memory (1 KiB per triangle + 64 MiB of peak growth) and, in full runs, 60 s.
+// The 60 s below is the product's time: AddressSanitizer's checked loads and stores make this case about 15 times
+// slower (measured: 4 s optimised, 55 s sanitized before the self-intersection test), so a sanitized build, which
+// is there to find memory errors, does not time it.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+
+// A generated sphere mesh (1.3M triangles with --full): generation, checks (self-intersections included), tree and
+// queries within the stated memory (1 KiB per triangle + 64 MiB of peak growth) and, in optimised full runs, 60 s.
 void mesh_large(Run& r, const StabilityOptions& o) {
   const int subdivisions = o.full ? 8 : 5;
   const double rss0 = peak_rss_mib();
@@ -257,7 +266,7 @@ void mesh_large(Run& r, const StabilityOptions& o) {
             "the generated mesh is not closed, manifold and outward");
   r.require("chord_error", wrong == 0, std::to_string(wrong) + " of 200 signed distances off the sphere by more than the chord error");
   r.require("memory", growth <= limit, "peak memory grew " + num(growth) + " MiB, over " + num(limit));
-  if (o.full) r.require("seconds", seconds <= 60, "took " + num(seconds) + " s, over 60");
+  if (o.full && !kSanitized) r.require("seconds", seconds <= 60, "took " + num(seconds) + " s, over 60");
 }
 
 }  // namespace

@@ -3,7 +3,10 @@
 
 #include "marchcheck/meshes/mesh.hpp"
 
+#include <array>
+#include <cstddef>
 #include <string>
+#include <vector>
 
 namespace marchcheck::meshes {
 
@@ -19,14 +22,18 @@ struct MeshReport {
   bool consistently_oriented = false;  // faces sharing an edge run along it as often one way as the other
   bool outward = false;                // closed, consistently oriented and signed_volume > 0
   double signed_volume = 0;            // sum of signed tetrahedron volumes; meaningful for closed meshes
+  // Pairs of triangles (0-based, in the mesh's order) that pass through each other, meeting anywhere but at the
+  // edge or vertex they share: a closed manifold that crosses itself has no single inside (its winding number is
+  // 2 or -1 in places), so no sign. Tested (CGAL, exact predicates) only when the topology is a solid's.
+  std::vector<std::array<std::size_t, 2>> crossing_triangles;
 };
 
 // Throws MeshError if a triangle indexes past the vertex array.
 MeshReport inspect(const Mesh& mesh);
 
 // The one rule for taking a mesh as a solid (a sign for its distance, an inside for its reference): closed,
-// manifold at every edge and vertex, consistently oriented, no degenerate face. "" when it holds, otherwise what
-// breaks it first. Orientation is separate: an inward solid is still a solid (see MeshReport::outward).
+// manifold at every edge and vertex, consistently oriented, no degenerate face, and not passing through itself.
+// "" when it holds, otherwise what breaks it first. Orientation is separate: an inward solid is still a solid (see MeshReport::outward).
 std::string solid_problem(const MeshReport& report);
 
 }  // namespace marchcheck::meshes

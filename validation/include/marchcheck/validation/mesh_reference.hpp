@@ -19,11 +19,13 @@ class MeshReference {
   MeshReference(const MeshReference&) = delete;
   MeshReference& operator=(const MeshReference&) = delete;
 
-  // Closed meshes have an inside: only they give signed distances.
+  // Only solids (meshes::solid_problem: closed, manifold, oriented, not passing through themselves) have an inside,
+  // built from every face (meshes::cgal::surface_mesh refuses otherwise): only they give signed distances.
+  // Distances and ray hits of any mesh use every triangle as a soup.
   bool closed() const;
   double unsigned_distance(glm::dvec3 p) const;
   glm::dvec3 closest_point(glm::dvec3 p) const;
-  // Negative inside; nullopt for an open or non-manifold mesh (unsigned distance only).
+  // Negative inside; nullopt for a mesh that is no solid (unsigned distance only).
   std::optional<double> signed_distance(glm::dvec3 p) const;
   // The first face along origin + t direction (unit) within t_max, with its outward face normal.
   ReferenceHit first_hit(glm::dvec3 origin, glm::dvec3 direction, double t_max) const;
