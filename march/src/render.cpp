@@ -311,21 +311,27 @@ struct Tracer {
     return bounce(glm::dvec3(lit.r[0], lit.g[0], lit.b[0]), p, n.n, dir, material, depth, r.t);
   }
 
+  // The reference's shadows at its point p (outward normal n): each light's ray starts lift off the surface along n,
+  // lift bounding how far p may lie from the surface, so that it starts outside the solid it leaves.
+  void reference_shadows(glm::dvec3 p, glm::dvec3 n, double lift, double* visibility) const {
+    for (size_t i = 0; i < ctx.scene.lights.size(); ++i) {
+      const auto& light = ctx.scene.lights[i];
+      visibility[i] = 1;
+      if (light.shadow == sdf::ShadowMode::none) continue;
+      const glm::dvec3 lp = ctx.light_positions[i];
+      const bool point = light.type == sdf::LightType::point;
+      const glm::dvec3 l = point ? glm::normalize(lp - p) : -glm::normalize(light.direction);
+      visibility[i] = ctx.oracle->first_hit(p + n * lift, l, point ? glm::length(lp - p) : 1e9) ? 0.0 : 1.0;
+    }
+  }
+
   // Fills the visibility of every light; returns the evaluations spent.
   std::uint64_t shadows(Vec<T> p, Vec<T> n, T t, double* visibility) {
     const TapeField field{&ctx.tape};
     std::uint64_t evals = 0;
-    if (ctx.oracle) {
-      for (size_t i = 0; i < ctx.scene.lights.size(); ++i) {
-        const auto& light = ctx.scene.lights[i];
-        visibility[i] = 1;
-        if (light.shadow == sdf::ShadowMode::none) continue;
-        const glm::dvec3 pd(p), nd(n), lp = ctx.light_positions[i];
-        const bool point = light.type == sdf::LightType::point;
-        const glm::dvec3 l = point ? glm::normalize(lp - pd) : -glm::normalize(light.direction);
-        const glm::dvec3 start = pd + nd * tolerance::shadow_lift(pd);
-        visibility[i] = ctx.oracle->first_hit(start, l, point ? glm::length(lp - pd) : 1e9) ? 0.0 : 1.0;
-      }
+    if (ctx.oracle) {  // a point found in T (a triangle mesh's): lifted by T's rounding of it
+      const glm::dvec3 pd(p);
+      reference_shadows(pd, glm::dvec3(n), tolerance::shadow_lift(pd), visibility);
       return 0;
     }
     for (size_t i = 0; i < ctx.scene.lights.size(); ++i) {
@@ -422,6 +428,9 @@ class TileRenderer {
     bool hit = false;
     bool on_mesh = false;  // the nearest surface is a triangle mesh, not the field
     MeshHit mesh;
+    // Reference renders: the oracle's hit in double, at origin + unit direction reference_t, within reference_lift
+    // of the surface (its shadow rays start there, not at the float point, which can lie deeper inside).
+    double reference_t = 0, reference_lift = 0;
     std::uint64_t batched_evals = 0;  // spent by a packet pass, charged by the stage that follows it
   };
   // Beside the pixels rather than in them, so that the tile's state stays in the first-level cache: the
@@ -539,7 +548,11 @@ class TileRenderer {
       p.record = {};
       p.record.outcome = hit ? Outcome::hit : Outcome::miss_far;
       p.record.t = hit ? static_cast<T>(hit->t / len) : T(0);
-      if (hit) p.normal = V(hit->normal);
+      if (hit) {
+        p.normal = V(hit->normal);
+        p.reference_t = hit->t;
+        p.reference_lift = tolerance::reference_hit_slack(glm::dvec3(p.origin), hit->t, hit->t_error);
+      }
       p.hit = hit.has_value();
       if (p.mesh.hit && (!hit || p.mesh.t < hit->t / len)) {
         p.hit = false;
@@ -613,7 +626,11 @@ class TileRenderer {
     if (!batched) {
       stage(kShadow, [&](PixelState& p, int, int) {
         if (!surface(p)) return std::uint64_t{0};
-        return tracer_.shadows(p.point, p.normal, p.record.t, visibility(p));
+        if (!ctx_.oracle || !p.hit) return tracer_.shadows(p.point, p.normal, p.record.t, visibility(p));
+        const glm::dvec3 direction = glm::normalize(glm::dvec3(p.direction));
+        tracer_.reference_shadows(glm::dvec3(p.origin) + direction * p.reference_t, glm::dvec3(p.normal),
+                                  p.reference_lift, visibility(p));
+        return std::uint64_t{0};
       });
       return;
     }

@@ -194,8 +194,11 @@ MeshDistance::Leaf<S> MeshDistance::make_leaf(const std::vector<std::array<glm::
   l.first = first;
   for (std::uint32_t k = 0; k < kLeafWidth; ++k) {
     // Edge vectors as closest_on_triangle computes them, in S.
-    const auto& t = corners[first + std::min(k, count - 1)];
+    const std::uint32_t slot = first + std::min(k, count - 1);
+    const auto& t = corners[slot];
+
     const glm::vec<3, S> ab = t[1] - t[0], ac = t[2] - t[0], bc = t[2] - t[1];
+    const meshes::TriangleFrame<S> f = meshes::triangle_frame(ab, ac, bc);
     for (int i = 0; i < 3; ++i) {
       l.a[i][k] = t[0][i];
       l.b[i][k] = t[1][i];
@@ -203,6 +206,10 @@ MeshDistance::Leaf<S> MeshDistance::make_leaf(const std::vector<std::array<glm::
       l.ab[i][k] = ab[i];
       l.ac[i][k] = ac[i];
       l.bc[i][k] = bc[i];
+      l.n[i][k] = f.n[i];
+      l.across_ab[i][k] = f.across_ab[i];
+      l.across_ac[i][k] = f.across_ac[i];
+      l.across_bc[i][k] = f.across_bc[i];
     }
   }
   return l;

@@ -1,5 +1,6 @@
 // The renderer: deterministic on any thread count, identical for a scene and its file, Lambert where it must be.
 #include "marchcheck/march/render.hpp"
+#include "marchcheck/march/tolerances.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 
@@ -11,6 +12,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <numeric>
+#include <optional>
 
 namespace marchcheck::march {
 namespace {
@@ -115,6 +117,54 @@ TEST_P(EveryBuiltin, FloatShadingDrawsTheDoubleShadedEightBitImage) {
 
 INSTANTIATE_TEST_SUITE_P(All, EveryBuiltin, ::testing::ValuesIn(sdf::builtin_scene_names()),
                          marchcheck::testing::builtin_param_name);
+
+// A reference render's shadow rays start from the oracle's own double hit, lifted by that hit's error bound, not
+// from the float point: a wall at z = 1000.37 (solid behind it) seen from z = -5000, lit along +z from behind a
+// screen at z = -6000 that shadows all of it. The float point o + d t rounds with |o| + t = 11000 and can lie
+// inside the wall by more than the float lift at |p| = 1000 (counted below: the fixture makes such points); a ray
+// starting inside the solid finds no surface, so it counted as lit. Broken variant: shadow rays from the float
+// point (speckles of light in the shadow).
+TEST(Render, ReferenceShadowRaysStartFromTheReferencesOwnHit) {
+  constexpr double kWall = 1000.37;
+  sdf::Scene s;
+  s.name = "wall";
+  s.materials = {{"white", glm::dvec3(1)}};
+  s.root = sdf::sphere(1, 0);  // never marched: the oracle gives every surface
+  s.width = s.height = 64;
+  s.camera.position = {0, 0, -5000};
+  s.camera.target = {0, 0, 0};
+  s.camera.fov_deg = 10;
+  s.march.max_dist = 1e5;
+  s.effects.ambient = 0.1;
+  sdf::Light light;
+  light.type = sdf::LightType::directional;
+  light.direction = {0, 0, 1};
+  light.shadow = sdf::ShadowMode::hard;
+  s.lights = {light};
+  const SurfaceOracle oracle{[&](glm::dvec3 o, glm::dvec3 d, double t_max) -> std::optional<SurfaceOracle::Hit> {
+    if (o.z >= kWall) return std::nullopt;  // inside the wall's solid: a reference finds no first surface
+    if (d.z > 0 && (kWall - o.z) / d.z <= t_max) return SurfaceOracle::Hit{(kWall - o.z) / d.z, {0, 0, -1}};
+    if (d.z < 0 && o.z > -6000 && (o.z + 6000) / -d.z <= t_max)
+      return SurfaceOracle::Hit{(o.z + 6000) / -d.z, {0, 0, 1}};
+    return std::nullopt;
+  }};
+  const RenderResult r = render(s, {}, &oracle);
+  const Camera cam(s.camera, s.width, s.height);
+  int deep = 0, lit = 0, hit = 0;
+  for (int y = 0; y < s.height; ++y)
+    for (int x = 0; x < s.width; ++x) {
+      const Ray ray = cam.ray(x + 0.5, y + 0.5);
+      const glm::dvec3 d = glm::normalize(ray.direction);
+      const glm::vec3 p = glm::vec3(ray.origin) + glm::vec3(d) * static_cast<float>((kWall - ray.origin.z) / d.z);
+      deep += p.z - kWall > tolerance::shadow_lift(glm::dvec3(p));
+      // Ambient 0.1 in shadow, 0.1 + n.l (about 1) lit.
+      lit += r.color.at(x, y)[0] > 0.5f;
+      hit += r.color.at(x, y)[0] > 0.05f;  // not the black background
+    }
+  EXPECT_EQ(hit, s.width * s.height) << "every pixel sees the wall";
+  EXPECT_GT(deep, 0) << "the fixture no longer puts float points deeper than the float lift";
+  EXPECT_EQ(lit, 0) << "of " << s.width * s.height << " pixels, all in the plane's shadow";
+}
 
 TEST(Render, LambertAndPhongOnASphereEqualTheClosedForm) {
   sdf::Scene s;

@@ -94,6 +94,29 @@ inline Mesh pinched_double_cone(int n = 16) {
   return m;
 }
 
+// A CAD-like plate 300 x 200 x 3 with its corner at (100, 100, 100): its top and bottom are fans from that corner
+// to the far edges, split at `needles` points along the edge x = 400, so all but the last triangle of each fan are
+// needles about 300 long and 200 / needles wide at their far end (aspect about 1.5 needles); its sides are strips.
+inline Mesh sliver_plate(int needles = 200) {
+  std::vector<dvec3> ring = {{100, 100, 0}, {400, 100, 0}};
+  for (int k = 1; k <= needles; ++k) ring.push_back({400, 100 + 200.0 * k / needles, 0});
+  ring.push_back({100, 300, 0});
+  Mesh m;
+  const auto n = static_cast<std::uint32_t>(ring.size());
+  for (const double z : {100.0, 103.0})
+    for (const dvec3& v : ring) m.vertices.push_back({v.x, v.y, z});
+  for (std::uint32_t i = 1; i + 1 < n; ++i) {
+    m.triangles.push_back({0, i + 1, i});              // bottom, facing -z
+    m.triangles.push_back({n, n + i, n + i + 1});      // top, facing +z
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {  // sides: the ring runs counter-clockwise seen from +z
+    const std::uint32_t j = (i + 1) % n;
+    m.triangles.push_back({i, j, n + j});
+    m.triangles.push_back({i, n + j, n + i});
+  }
+  return m;
+}
+
 // Every mesh check clean: closed, manifold, outward, no degenerate faces or duplicate vertices.
 inline void expect_clean(const MeshReport& r) {
   EXPECT_TRUE(r.closed);

@@ -211,6 +211,29 @@ TEST(MeshNode, SearchFindsExactlyTheBruteForceClosestTriangle) {
   }
 }
 
+// Float distances beside the needles of a plate 100-400 from the origin (aspect ~300): once 8.7x the exact value,
+// from the barycentric face point's cancellation (closest_point.hpp). Now within the rounding of the float point
+// and corners: half an ulp each of coordinates up to 400 (FLT_EPSILON / 2 x 400 = 2.4e-5), four of them.
+// Broken variants: the barycentric face point in the leaf or in closest_on_triangle; the normal across the tip.
+TEST(MeshNode, FloatDistanceBesideSliversIsWithinRounding) {
+  const meshes::Mesh plate = meshes::test::sliver_plate();
+  const meshes::MeshReport report = meshes::inspect(plate);
+  ASSERT_TRUE(report.closed && report.manifold && report.outward && report.crossing_triangles.empty());
+  const MeshDistance md(plate);
+  std::mt19937 rng(300);
+  std::uniform_real_distribution<double> x(105, 395), across(0.02, 0.98), height(0.01, 0.05);
+  const double tolerance = 4 * (FLT_EPSILON / 2 * 400);
+  double worst = 0;
+  for (int i = 0; i < 20000; ++i) {
+    // Above the top face, over the needles' part of it (below the fan's last, fat triangle at y = 100 + 2 (x-100)/3).
+    const double px = x(rng), py = 100 + across(rng) * (200 * (px - 100) / 300), h = height(rng);
+    const dvec3 p(px, py, 103 + h);
+    ASSERT_NEAR(md.signed_distance(p), h, 1e-12);
+    worst = std::max(worst, std::abs(static_cast<double>(md.signed_distance(glm::vec3(p))) - h));
+  }
+  EXPECT_LE(worst, tolerance);
+}
+
 TEST(MeshNode, RefusesMeshesWithoutAnInside) {
   auto throws_with = [](const meshes::Mesh& m, const std::string& what) {
     try {

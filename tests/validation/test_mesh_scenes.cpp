@@ -9,6 +9,7 @@
 #include "marchcheck/validation/mesh_reference.hpp"
 #include "marchcheck/validation/reference.hpp"
 #include "marchcheck/validation/validate.hpp"
+#include "../meshes/mesh_test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -143,6 +144,25 @@ TEST(MeshScenes, IcosphereNormalLimitIsTheLargestAngleBetweenAdjacentFaces) {
   const double limit = sdf::builtin_scene("mesh-icosphere").limits.at("normal.angle_p99_deg");
   EXPECT_LE(worst, limit);
   EXPECT_GT(worst, limit - 0.05);  // the limit is this angle, not a looser one
+}
+
+// The bound checked in the march's arithmetic beside the surface catches a float field wrong only there: the
+// sliver plate marched in float passes it. Broken variant: the barycentric face point (the float distance 8.7x
+// too large beside a needle), which the double-only check, sampling 0 to 0.05 (1 + t) away, reported as 1e-16.
+TEST(MeshScenes, TheMarchedBoundBesideASliverPlatePasses) {
+  sdf::Scene s = sdf::builtin_scene("mesh-box");
+  s.root = loaded_mesh(meshes::test::sliver_plate());
+  s.lights.clear();
+  s.camera.position = {180, 140, 140};
+  s.camera.target = {330, 170, 103};
+  s.march.precision = sdf::Precision::float32;
+  s.march.max_dist = 1000;
+  const SceneResult r = validate_scene(s, ValidateOptions{32, 18, 0});
+  const auto it = std::find_if(r.checks.begin(), r.checks.end(),
+                               [](const Check& c) { return c.name == "sdf.overestimate_marched_max"; });
+  ASSERT_NE(it, r.checks.end());
+  EXPECT_TRUE(it->pass) << it->value;
+  EXPECT_TRUE(r.metrics.count("hit.t_err_max")) << "the camera sees no plate";
 }
 
 TEST(MeshScenes, GridOfTheMeshNeedsStepsOfFOverSqrt3) {

@@ -115,14 +115,23 @@ vec3 mc_soil(float s, float t) {
 )";
 
 // mesh_distance.hpp's arithmetic for one triangle: leaf_distance2's squared distance (its candidates chosen in its
-// order), and closest_on_triangle's closest point and feature.
-constexpr const char* kMeshHelpers = R"(float mc_triangle_distance2(vec3 p, vec3 a, vec3 b, vec3 c) {
+// order), closest_on_triangle's closest point and feature, face_normal and triangle_frame (glm::cross's products).
+constexpr const char* kMeshHelpers = R"(vec3 mc_cross(vec3 a, vec3 b) {
+  return vec3(a.y * b.z - b.y * a.z, a.z * b.x - b.z * a.x, a.x * b.y - b.x * a.y);
+}
+vec3 mc_face_normal(vec3 ab, vec3 ac, vec3 bc) {
+  float lab = mc_dot(ab, ab), lbc = mc_dot(bc, bc), lca = mc_dot(ac, ac);
+  if (lab >= lbc && lab >= lca) return mc_cross(ac, bc);
+  if (lbc >= lca) return mc_cross(ab, ac);
+  return mc_cross(ab, bc);
+}
+float mc_triangle_distance2(vec3 p, vec3 a, vec3 b, vec3 c) {
   vec3 ab = b - a, ac = c - a, bc = c - b, ap = p - a, bp = p - b, cp = p - c;
   float d1 = mc_dot(ab, ap), d2 = mc_dot(ac, ap), d3 = mc_dot(ab, bp), d4 = mc_dot(ac, bp);
   float d5 = mc_dot(ab, cp), d6 = mc_dot(ac, cp);
-  float vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
-  float denom = 1.0 / (va + vb + vc), v = vb * denom, w = vc * denom;
-  vec3 q = a + ab * v + ac * w;
+  vec3 n = mc_face_normal(ab, ac, bc);
+  float vc = mc_dot(ap, mc_cross(n, ab)), vb = mc_dot(ap, mc_cross(ac, n)), va = mc_dot(bp, mc_cross(n, bc));
+  vec3 q = p - n * (mc_dot(ap, n) / mc_dot(n, n));
   if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) q = b + bc * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
   if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) q = a + ac * (d2 / (d2 - d6));
   if (d6 >= 0.0 && d5 <= d6) q = c;
@@ -134,21 +143,21 @@ constexpr const char* kMeshHelpers = R"(float mc_triangle_distance2(vec3 p, vec3
 }
 // The closest point and its feature (0-2 vertices, 3 edge 01, 4 edge 12, 5 edge 20, 6 the face).
 vec3 mc_closest_on_triangle(vec3 p, vec3 a, vec3 b, vec3 c, out int feature) {
-  vec3 ab = b - a, ac = c - a, ap = p - a;
+  vec3 ab = b - a, ac = c - a, ap = p - a, n = mc_face_normal(ab, ac, c - b);
   float d1 = mc_dot(ab, ap), d2 = mc_dot(ac, ap);
   feature = 0; if (d1 <= 0.0 && d2 <= 0.0) return a;
   vec3 bp = p - b; float d3 = mc_dot(ab, bp), d4 = mc_dot(ac, bp);
   feature = 1; if (d3 >= 0.0 && d4 <= d3) return b;
-  float vc = d1 * d4 - d3 * d2;
+  float vc = mc_dot(ap, mc_cross(n, ab));
   feature = 3; if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + ab * (d1 / (d1 - d3));
   vec3 cp = p - c; float d5 = mc_dot(ab, cp), d6 = mc_dot(ac, cp);
   feature = 2; if (d6 >= 0.0 && d5 <= d6) return c;
-  float vb = d5 * d2 - d1 * d6;
+  float vb = mc_dot(ap, mc_cross(ac, n));
   feature = 5; if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
-  float va = d3 * d6 - d5 * d4;
+  float va = mc_dot(bp, mc_cross(n, c - b));
   feature = 4; if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  feature = 6; float denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
+  feature = 6;
+  return p - n * (mc_dot(ap, n) / mc_dot(n, n));
 }
 )";
 

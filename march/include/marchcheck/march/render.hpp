@@ -69,6 +69,7 @@ struct SurfaceOracle {
   struct Hit {
     double t;
     glm::dvec3 normal;
+    double t_error = 0;  // a bound on |t - the exact t| beyond double rounding (a bisection's half width, say)
   };
   std::function<std::optional<Hit>(glm::dvec3 origin, glm::dvec3 direction, double t_max)> first_hit;
 };

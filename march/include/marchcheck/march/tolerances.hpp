@@ -26,6 +26,14 @@ inline double hit_point_rounding(double eps, glm::dvec3 origin, double t) {
   return 4 * eps * (glm::length(origin) + t);
 }
 
+// How far a reference's double-precision hit o + d t (d unit length) may lie from the surface: its t's own error
+// bound (exact casts 0, bisections their half width), which moves the point along d by as much and off the surface
+// by at most that, plus double rounding of the point, hit_point_rounding at double's epsilon (every reference
+// computes t and the point in a few dozen operations at most). Reference shadow rays start this far off.
+inline double reference_hit_slack(glm::dvec3 origin, double t, double t_error) {
+  return t_error + hit_point_rounding(std::numeric_limits<double>::epsilon(), origin, t);
+}
+
 // The numerical reference's march (steps of f / L, every sign change bisected): it never steps less than
 // position_slack(t) (so it cannot stall where f vanishes without a sign change), reads |f| below kTouch as a touch
 // of the surface, and bisects a crossing to kBisection in t, which is its t's error bound.

@@ -65,6 +65,7 @@ class MeshDistance {
   template <class S>
   struct Leaf {
     std::array<S, kLeafWidth> a[3], b[3], c[3], ab[3], ac[3], bc[3];
+    std::array<S, kLeafWidth> n[3], across_ab[3], across_ac[3], across_bc[3];  // meshes::TriangleFrame
     std::uint32_t first;  // BVH position of lane 0
   };
   // Four children's boxes side by side (per axis, then child), tested together. A child is an inner node, or a
@@ -137,16 +138,22 @@ inline void leaf_distance2(glm::vec<3, S> p, const L& l, S* out) {
   const V d1 = abx * apx + aby * apy + abz * apz, d2 = acx * apx + acy * apy + acz * apz;
   const V d3 = abx * bpx + aby * bpy + abz * bpz, d4 = acx * bpx + acy * bpy + acz * bpz;
   const V d5 = abx * cpx + aby * cpy + abz * cpz, d6 = acx * cpx + acy * cpy + acz * cpz;
-  const V vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
+  const auto side = [](V x, V y, V z, const auto& across) {
+    return x * lanes(across[0]) + y * lanes(across[1]) + z * lanes(across[2]);
+  };
+  const V vc = side(apx, apy, apz, l.across_ab), vb = side(apx, apy, apz, l.across_ac);
+  const V va = side(bpx, bpy, bpz, l.across_bc);
   const V t01 = d1 / (d1 - d3), t20 = d2 / (d2 - d6), t12 = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-  const V denom = S(1) / (va + vb + vc), v = vb * denom, w = vc * denom;
+  const V nx = lanes(l.n[0]), ny = lanes(l.n[1]), nz = lanes(l.n[2]);
+  // p's height over each plane, in units of |n|.
+  const V plane = (apx * nx + apy * ny + apz * nz) / (nx * nx + ny * ny + nz * nz);
   const auto v0 = (d1 <= 0) & (d2 <= 0), v1 = (d3 >= 0) & (d4 <= d3), e01 = (vc <= 0) & (d1 >= 0) & (d3 <= 0);
   const auto v2 = (d6 >= 0) & (d5 <= d6), e20 = (vb <= 0) & (d2 >= 0) & (d6 <= 0);
   const auto e12 = (va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0);
   V d[3];
   for (int i = 0; i < 3; ++i) {
     const V a = lanes(l.a[i]), b = lanes(l.b[i]), ab = lanes(l.ab[i]), ac = lanes(l.ac[i]);
-    V q = a + ab * v + ac * w;
+    V q = p[i] - lanes(l.n[i]) * plane;
     q = e12 ? b + lanes(l.bc[i]) * t12 : q;
     q = e20 ? a + ac * t20 : q;
     q = v2 ? lanes(l.c[i]) : q;

@@ -91,6 +91,9 @@ struct MarchedRay {
 // marcher are judged the same way, against the references of the scene that says what they should draw.
 struct Subject {
   std::function<double(glm::dvec3)> field;  // for the field's own checks (Lipschitz constant, bound)
+  // The field in the march's own arithmetic, for the bound where the march relies on it (beside the surface);
+  // empty: judged in double only.
+  std::function<double(glm::dvec3)> marched_field;
   std::function<MarchedRay(glm::dvec3 origin, glm::dvec3 direction)> march;
   // The normal at a marched hit p (t along the ray); empty: the marcher's own (MarchedRay::normal) or none.
   std::function<glm::dvec3(glm::dvec3 p, double t)> normal;
