@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <bit>
 #include <numeric>
+#include <iomanip>
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -18,6 +20,21 @@ using glm::dvec3;
 std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
   return (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
 }
+
+// Disjoint sets of indices, for connected components.
+struct UnionFind {
+  std::vector<std::size_t> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), std::size_t{0}); }
+  std::size_t root(std::size_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  }
+  bool join(std::size_t i, std::size_t j) {
+    const std::size_t ri = root(i), rj = root(j);
+    parent[ri] = rj;
+    return ri != rj;
+  }
+};
 
 // Whether the faces around one vertex, given as the opposite edge of each, form a single fan: the link is one
 // path or one cycle (no link vertex of degree > 2, one connected component).
@@ -33,21 +50,12 @@ bool single_fan(std::vector<std::pair<std::uint32_t, std::uint32_t>>& link) {
     return static_cast<std::size_t>(std::lower_bound(ends.begin(), ends.end(), v) - ends.begin());
   };
   std::vector<int> degree(ends.size(), 0);
-  std::vector<std::size_t> parent(ends.size());
-  std::iota(parent.begin(), parent.end(), std::size_t{0});
-  const auto root = [&](std::size_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
+  UnionFind sets(ends.size());
   std::size_t components = ends.size();
   for (const auto& [a, b] : link) {
     const std::size_t i = local(a), j = local(b);
     if (++degree[i] > 2 || ++degree[j] > 2) return false;
-    const std::size_t ri = root(i), rj = root(j);
-    if (ri != rj) {
-      parent[ri] = rj;
-      --components;
-    }
+    components -= sets.join(i, j);
   }
   return components == 1;
 }
@@ -66,15 +74,19 @@ MeshReport inspect(const Mesh& mesh) {
   // Degenerate faces; those with a repeated index have no proper edges and are left out of the topology.
   std::vector<std::array<std::uint32_t, 3>> proper;
   proper.reserve(mesh.triangles.size());
-  for (const auto& t : mesh.triangles) {
+  const auto degenerate = [&](std::size_t f) {
+    if (report.degenerate_faces++ < static_cast<int>(kReportExamples)) report.degenerate_faces_at.push_back(f);
+  };
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const auto& t = mesh.triangles[f];
     if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
-      ++report.degenerate_faces;
+      degenerate(f);
       continue;
     }
     proper.push_back(t);
     const dvec3 a = mesh.vertices[t[0]], b = mesh.vertices[t[1]], c = mesh.vertices[t[2]];
     const double longest2 = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
-    if (glm::length(glm::cross(b - a, c - a)) <= 1e-12 * longest2) ++report.degenerate_faces;
+    if (glm::length(glm::cross(b - a, c - a)) <= 1e-12 * longest2) degenerate(f);
   }
 
   // Edges: how many faces use each, and in which direction.
@@ -86,16 +98,31 @@ MeshReport inspect(const Mesh& mesh) {
       directed.emplace_back(edge_key(a, b), a < b);
     }
   std::sort(directed.begin(), directed.end());
-  bool consistent = true;
+  const auto note = [&](int& count, std::vector<std::array<dvec3, 2>>& at, std::uint64_t key) {
+    if (count++ < static_cast<int>(kReportExamples))
+      at.push_back({mesh.vertices[key >> 32], mesh.vertices[key & 0xffffffffu]});
+  };
+  UnionFind loops(n_vertices);
+  std::vector<std::uint32_t> on_boundary;
   for (std::size_t i = 0; i < directed.size();) {
     std::size_t j = i, forward = 0;
     for (; j < directed.size() && directed[j].first == directed[i].first; ++j) forward += directed[j].second;
     const std::size_t uses = j - i;
-    if (uses == 1) ++report.boundary_edges;
-    if (uses > 2) ++report.nonmanifold_edges;
-    if (uses > 1 && 2 * forward != uses) consistent = false;
+    const std::uint64_t key = directed[i].first;
+    if (uses == 1) {
+      note(report.boundary_edges, report.boundary_edges_at, key);
+      const auto a = static_cast<std::uint32_t>(key >> 32), b = static_cast<std::uint32_t>(key & 0xffffffffu);
+      loops.join(a, b);
+      on_boundary.push_back(a);
+    }
+    if (uses > 2) note(report.nonmanifold_edges, report.nonmanifold_edges_at, key);
+    if (uses > 1 && 2 * forward != uses) note(report.misoriented_edges, report.misoriented_edges_at, key);
     i = j;
   }
+  for (std::uint32_t& v : on_boundary) v = static_cast<std::uint32_t>(loops.root(v));
+  std::sort(on_boundary.begin(), on_boundary.end());
+  report.boundary_loops = static_cast<int>(std::unique(on_boundary.begin(), on_boundary.end()) - on_boundary.begin());
+  const bool consistent = report.misoriented_edges == 0;
 
   // Fans: for each vertex, the edges opposite it in its faces.
   std::vector<std::size_t> start(n_vertices + 1, 0);
@@ -114,7 +141,8 @@ MeshReport inspect(const Mesh& mesh) {
     if (start[v] == start[v + 1]) continue;
     link.assign(opposite.begin() + static_cast<std::ptrdiff_t>(start[v]),
                 opposite.begin() + static_cast<std::ptrdiff_t>(start[v + 1]));
-    if (!single_fan(link)) ++report.nonmanifold_vertices;
+    if (!single_fan(link) && report.nonmanifold_vertices++ < static_cast<int>(kReportExamples))
+      report.pinched_vertices_at.push_back(mesh.vertices[v]);
   }
 
   // Duplicates: equal positions (-0 and +0 alike) after the first.
@@ -144,27 +172,67 @@ MeshReport inspect(const Mesh& mesh) {
   return report;
 }
 
+namespace {
+
+std::string position(dvec3 p) {
+  std::ostringstream out;
+  out << std::setprecision(7) << "(" << p.x << ", " << p.y << ", " << p.z << ")";
+  return out.str();
+}
+
+// "N what (at A, B, C, ...)": the count and where the first few lie.
+template <class T, class Show>
+std::string counted(int n, const std::string& what, const std::vector<T>& at, Show show) {
+  std::string out = std::to_string(n) + " " + what;
+  if (at.empty()) return out;
+  out += " (";
+  for (std::size_t i = 0; i < at.size(); ++i) out += (i ? ", " : "") + show(at[i]);
+  return out + (static_cast<std::size_t>(n) > at.size() ? ", ...)" : ")");
+}
+
+std::string edge_at(const std::array<dvec3, 2>& e) { return position(e[0]) + "-" + position(e[1]); }
+
+}  // namespace
+
 std::string solid_problem(const MeshReport& r) {
-  const auto count = [](int n, const char* what) { return std::to_string(n) + " " + what; };
+  std::vector<std::string> problems;
   if (r.degenerate_faces > 0)
-    return count(r.degenerate_faces, "degenerate faces (a repeated index, or zero area up to rounding)");
-  if (!r.closed) return r.boundary_edges > 0 ? "open: " + count(r.boundary_edges, "boundary edges") : "no triangles";
-  if (r.nonmanifold_edges > 0) return "non-manifold: " + count(r.nonmanifold_edges, "edges with three or more faces");
+    problems.push_back(counted(r.degenerate_faces, "degenerate faces (a repeated index, or zero area up to rounding): "
+                               "triangles", r.degenerate_faces_at, [](std::size_t f) { return std::to_string(f + 1); }));
+  if (r.boundary_edges > 0)
+    problems.push_back("open: " + counted(r.boundary_edges, "boundary edges in " + std::to_string(r.boundary_loops) +
+                                          (r.boundary_loops == 1 ? " loop" : " loops") + " at",
+                                          r.boundary_edges_at, edge_at));
+  if (r.nonmanifold_edges > 0)
+    problems.push_back("non-manifold: " + counted(r.nonmanifold_edges, "edges with three or more faces at",
+                                                  r.nonmanifold_edges_at, edge_at));
   if (r.nonmanifold_vertices > 0)
-    return "non-manifold: " + count(r.nonmanifold_vertices, "pinched vertices (their faces form no single fan)");
-  if (!r.consistently_oriented) return "inconsistently oriented: faces sharing an edge run along it the same way";
-  if (!r.crossing_triangles.empty()) {
-    // The first few pairs, counted from 1 as the faces come in the file (after polygons are split into triangles).
-    std::string pairs;
-    constexpr std::size_t kShown = 3;
-    for (std::size_t i = 0; i < std::min(kShown, r.crossing_triangles.size()); ++i)
-      pairs += (i ? ", " : "") + std::to_string(r.crossing_triangles[i][0] + 1) + " and " +
-               std::to_string(r.crossing_triangles[i][1] + 1);
-    return "self-intersecting: " + std::to_string(r.crossing_triangles.size()) + " pairs of triangles pass through "
-           "each other (triangles " + pairs + (r.crossing_triangles.size() > kShown ? ", ..." : "") +
-           "), so the mesh has no single inside and its distance no sign";
-  }
-  return "";
+    problems.push_back("non-manifold: " + counted(r.nonmanifold_vertices,
+                                                  "pinched vertices (their faces form no single fan) at",
+                                                  r.pinched_vertices_at, position));
+  if (r.misoriented_edges > 0)
+    problems.push_back("inconsistently oriented: " +
+                       counted(r.misoriented_edges, "edges whose faces run along them the same way at",
+                               r.misoriented_edges_at, edge_at));
+  if (!r.crossing_triangles.empty())
+    problems.push_back("self-intersecting: " +
+                       counted(static_cast<int>(r.crossing_triangles.size()),
+                               "pairs of triangles pass through each other, so the mesh has no single inside and its "
+                               "distance no sign: triangles",
+                               std::vector(r.crossing_triangles.begin(),
+                                           r.crossing_triangles.begin() +
+                                               static_cast<std::ptrdiff_t>(std::min(kReportExamples,
+                                                                                    r.crossing_triangles.size()))),
+                               [](const std::array<std::size_t, 2>& p) {
+                                 return std::to_string(p[0] + 1) + " and " + std::to_string(p[1] + 1);
+                               }));
+  if (problems.empty() && !r.closed) return "no triangles";
+  if (!problems.empty() && r.duplicate_vertices > 0 && r.boundary_edges > 0)
+    problems.push_back(std::to_string(r.duplicate_vertices) +
+                       " vertices repeat an earlier vertex's position: seams split there (merging them may close it)");
+  std::string out;
+  for (const auto& p : problems) out += (out.empty() ? "" : "; ") + p;
+  return out;
 }
 
 }  // namespace marchcheck::meshes

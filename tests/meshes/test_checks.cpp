@@ -160,7 +160,7 @@ TEST(Inspect, AFoldedBoxPassesThroughItself) {
   EXPECT_EQ(problem.rfind("self-intersecting: " + std::to_string(r.crossing_triangles.size()) + " pairs", 0), 0u)
       << problem;
   // Counted from 1, as a file numbers its faces.
-  EXPECT_NE(problem.find("triangles " + std::to_string(r.crossing_triangles[0][0] + 1) + " and " +
+  EXPECT_NE(problem.find("triangles (" + std::to_string(r.crossing_triangles[0][0] + 1) + " and " +
                          std::to_string(r.crossing_triangles[0][1] + 1)),
             std::string::npos)
       << problem;
@@ -182,6 +182,51 @@ TEST(Inspect, CrossingsAreNotTestedWhereTheTopologyIsAlreadyNoSolids) {
   EXPECT_FALSE(r.closed);
   EXPECT_TRUE(r.crossing_triangles.empty());
   EXPECT_EQ(solid_problem(r).rfind("open: ", 0), 0u);
+}
+
+// Every problem is reported with its count and where its first few lie, not only the first one found. A box with a
+// triangle removed (a hole: 3 edges in 1 loop), a fin on another edge (1 edge of three faces, its 2 free edges in a
+// second loop) and a face like (a, b, a): all three named, the hole's edges at the removed face's corners.
+// Broken variants: only the first problem said; loops counted per edge; examples from the wrong list.
+TEST(Inspect, EveryProblemIsCountedWithWhereItLies) {
+  Mesh m = box({1, 1, 1}).mesh;
+  const Triangle removed = m.triangles[11];  // {1, 7, 5}: the +x face's second half
+  m.triangles.erase(m.triangles.begin() + 11);
+  const auto fin = static_cast<std::uint32_t>(m.vertices.size());
+  m.vertices.push_back({-1, -3, 0});
+  m.triangles.push_back({0, 4, fin});  // a third face on the edge 0-4 of the -x face
+  m.triangles.push_back({0, 1, 0});    // triangle 13 in the file's numbering
+  const MeshReport r = inspect(m);
+  EXPECT_EQ(r.boundary_edges, 5);
+  EXPECT_EQ(r.boundary_loops, 2);
+  EXPECT_EQ(r.nonmanifold_edges, 1);
+  EXPECT_EQ(r.degenerate_faces, 1);
+  ASSERT_EQ(r.boundary_edges_at.size(), kReportExamples);
+  const std::string problem = solid_problem(r);
+  for (const std::string part : {"1 degenerate faces", "triangles (13)", "open: 5 boundary edges in 2 loops at (",
+                                  "non-manifold: 1 edges with three or more faces at ((-1, -1, -1)-(-1, -1, 1))",
+                                  "; "})
+    EXPECT_NE(problem.find(part), std::string::npos) << part << "\n" << problem;
+  EXPECT_NE(problem.find(", ...)"), std::string::npos) << "5 boundary edges, 3 shown: " << problem;
+  // Each shown boundary edge is one of the hole's or the fin's free edges.
+  for (const auto& [a, b] : r.boundary_edges_at) {
+    const auto is = [&](dvec3 p, std::uint32_t v) { return p == m.vertices[v]; };
+    const auto corner = [&](dvec3 p) { return is(p, removed[0]) || is(p, removed[1]) || is(p, removed[2]); };
+    const bool hole = corner(a) && corner(b);
+    const bool fin_edge = is(a, fin) || is(b, fin);
+    EXPECT_TRUE(hole || fin_edge);
+  }
+}
+
+// A mesh split along a seam (as STL files and exporters write them): open, and the message says its vertices
+// repeat positions, so that merging them may close it.
+TEST(Inspect, ASplitSeamSaysItsVerticesRepeat) {
+  Mesh m = box({1, 1, 1}).mesh;
+  m.vertices.push_back(m.vertices[7]);
+  m.triangles[11][1] = 8;  // {1, 7, 5} now uses the copy of vertex 7
+  const std::string problem = solid_problem(inspect(m));
+  EXPECT_EQ(problem.rfind("open: ", 0), 0u) << problem;
+  EXPECT_NE(problem.find("1 vertices repeat an earlier vertex's position"), std::string::npos) << problem;
 }
 
 TEST(Inspect, DuplicateVerticesAreCounted) {
