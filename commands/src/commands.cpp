@@ -176,6 +176,7 @@ int run_render(const RenderCommand& cmd, std::ostream& out, std::ostream& err) {
     err << "marchcheck render: " << e.what() << "\n";
     return kBadInput;
   }
+  for (const std::string& note : sdf::mesh_notes(scene.root)) out << scene.name << ": " << note << "\n";
   out << scene.name << ": " << scene.width << "x" << scene.height << ", " << std::fixed << std::setprecision(1)
       << result.evals_per_pixel() << " evaluations per pixel, " << std::setprecision(3) << result.seconds
       << " s -> " << cmd.output << "\n";
@@ -332,6 +333,7 @@ ShardFile validate_scenes(const ValidateCommand& cmd, const validation::Shard& s
     validation::print_checks(validated, printed);
     // A GLSL file's scene was made here: say how (the camera's framing, found by sampling).
     if (scene.root.op == sdf::Op::glsl && !scene.description.empty()) printed << "  scene: " << scene.description << "\n";
+    for (const std::string& note : sdf::mesh_notes(scene.root)) printed << "  " << note << "\n";
     results.scenes.push_back({i, printed.str(), validated});
     out << results.scenes.back().printed;
   }

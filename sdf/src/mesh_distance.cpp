@@ -7,6 +7,7 @@
 #include <map>
 #include <numeric>
 #include <string>
+#include <utility>
 
 namespace marchcheck::sdf {
 
@@ -74,7 +75,7 @@ struct MeshDistance::BinaryNode {
   }
 };
 
-MeshDistance::MeshDistance(const meshes::Mesh& mesh) : mesh_(mesh) {
+MeshDistance::MeshDistance(const meshes::Mesh& mesh, std::string note) : mesh_(mesh), note_(std::move(note)) {
   check_solid(mesh);
   const auto& vs = mesh.vertices;
   const auto& ts = mesh.triangles;

@@ -1,11 +1,14 @@
 #include "marchcheck/sdf/scene_file.hpp"
 
+#include "marchcheck/meshes/weld.hpp"
+
 #include "marchcheck/sdf/glsl_field.hpp"
 #include "marchcheck/sdf/mesh_distance.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <charconv>
 #include <filesystem>
 #include <fstream>
@@ -744,12 +747,17 @@ namespace {
 void load_node_meshes(Node& n, const MeshLoader& loader, const std::string& path,
                       std::map<std::string, std::shared_ptr<const MeshDistance>>& loaded) {
   if (n.op == Op::mesh && !n.mesh) {
-    auto& shared = loaded[n.source];
+    const double weld = n.scalar("weld");
+    // One distance structure per file and weld (the weld's exact bits: to_string would round 1e-9 to 0).
+    auto& shared = loaded[n.source + "\n" + std::to_string(std::bit_cast<std::uint64_t>(weld))];
     if (!shared) {
       if (!loader)
         fail(path + "/mesh", "'" + n.source + "': no mesh loader to read it with (meshes are off here)");
       try {
-        shared = std::make_shared<const MeshDistance>(loader(n.source));
+        meshes::Mesh mesh = loader(n.source);
+        std::string note;
+        if (weld > 0) note = "mesh '" + n.source + "' " + meshes::describe(meshes::weld(mesh, weld), weld);
+        shared = std::make_shared<const MeshDistance>(mesh, std::move(note));
       } catch (const std::exception& e) {
         const std::string what = e.what();
         // Loaders' errors name the file already; the mesh checks' errors do not.
@@ -765,6 +773,18 @@ void load_node_meshes(Node& n, const MeshLoader& loader, const std::string& path
 }
 
 }  // namespace
+
+std::vector<std::string> mesh_notes(const Node& root) {
+  std::vector<std::string> notes;
+  const auto visit = [&](const auto& self, const Node& n) -> void {
+    if (n.mesh && !n.mesh->note().empty() &&
+        std::find(notes.begin(), notes.end(), n.mesh->note()) == notes.end())
+      notes.push_back(n.mesh->note());
+    for (const Node& c : n.children) self(self, c);
+  };
+  visit(visit, root);
+  return notes;
+}
 
 void load_meshes(Scene& scene, const MeshLoader& loader) {
   std::map<std::string, std::shared_ptr<const MeshDistance>> loaded;

@@ -1,6 +1,7 @@
 // inspect(): a clean mesh passes, and each broken variant trips exactly the check meant for it.
 #include "marchcheck/meshes/checks.hpp"
 #include "marchcheck/meshes/procedural.hpp"
+#include "marchcheck/meshes/weld.hpp"
 #include "mesh_test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -268,6 +269,48 @@ TEST(Inspect, IndexPastTheVerticesThrows) {
   Mesh m = sphere();
   m.triangles.push_back({0, 1, static_cast<std::uint32_t>(m.vertices.size())});
   EXPECT_THROW(inspect(m), MeshError);
+}
+
+// A box whose corner 7 is split into two copies 2.7e-16 apart (an exporter's seam), with 200 zero-area slivers
+// along the split edge, (7, copy, 3), as such files carry: open and degenerate as read; welded at 1e-12, one vertex
+// merges, the 200 slivers (now (7, 7, 3)) go, and the box is a solid again. Broken variants: merging beyond the
+// tolerance, faces left with a repeated index, a merge missed across a cell boundary.
+Mesh split_seam_box() {
+  Mesh m = box({1, 1, 1}).mesh;
+  const auto copy = static_cast<std::uint32_t>(m.vertices.size());
+  m.vertices.push_back(m.vertices[7] + dvec3(2.7e-16, 0, 0));
+  m.triangles[11][1] = copy;  // {1, 7, 5} -> {1, copy, 5}
+  for (int i = 0; i < 200; ++i) m.triangles.push_back({7, copy, 3});
+  return m;
+}
+
+TEST(Weld, ClosesASplitSeamAndRemovesTheSliversItCollapses) {
+  Mesh m = split_seam_box();
+  EXPECT_NE(solid_problem(inspect(m)), "");
+  const WeldResult r = weld(m, 1e-12);
+  EXPECT_EQ(r.merged_vertices, 1);
+  EXPECT_EQ(r.removed_faces, 200);
+  EXPECT_EQ(m.vertices.size(), 8u);
+  EXPECT_EQ(m.triangles.size(), 12u);
+  const MeshReport report = inspect(m);
+  EXPECT_EQ(solid_problem(report), "");
+  EXPECT_TRUE(report.outward);
+  EXPECT_EQ(describe(r, 1e-12), "welded at 1e-12: 1 vertices merged, 200 faces with a repeated index removed");
+}
+
+TEST(Weld, MergesOnlyWithinTheTolerance) {
+  Mesh apart = split_seam_box();
+  const WeldResult none = weld(apart, 1e-16);  // the copy is 2.7e-16 away
+  EXPECT_EQ(none.merged_vertices, 0);
+  EXPECT_EQ(none.removed_faces, 0);
+  EXPECT_EQ(describe(none, 1e-16), "welded at 1e-16: nothing to weld");
+  // A pair straddling a cell boundary (cells are the tolerance wide) still merges; 0 merges equal positions only.
+  Mesh straddle{{{0.999e-3, 0, 0}, {1.001e-3, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{0, 2, 3}, {1, 2, 3}}};
+  EXPECT_EQ(weld(straddle, 1e-5).merged_vertices, 1);
+  Mesh equal{{{1, 2, 3}, {1, 2, 3}, {1, 2, 3 + 1e-15}, {0, 1, 0}}, {{0, 2, 3}, {1, 2, 3}}};
+  EXPECT_EQ(weld(equal, 0).merged_vertices, 1);
+  EXPECT_THROW(weld(equal, -1), MeshError);
+  EXPECT_THROW(weld(equal, 1e-300), MeshError);
 }
 
 }  // namespace

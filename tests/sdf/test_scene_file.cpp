@@ -262,6 +262,32 @@ TEST_F(MeshScene, MissingOrBadMeshesAndNoLoaderNameTheFileAndTheJsonPath) {
   EXPECT_THROW(builtin_scene("mesh-icosphere", {}), SceneError);  // built-ins with meshes need a loader too
 }
 
+// A mesh with a split seam (corner 7 doubled, 200 zero-area slivers along it): refused as read, taken with
+// "weld", which says what it changed. Broken variants: weld ignored; meshes cached by file alone (the welded and
+// the unwelded node would share one); nothing said.
+TEST_F(MeshScene, AWeldClosesASplitSeamAndSaysWhatItChanged) {
+  meshes::Mesh m = meshes::box({1, 1, 1}).mesh;
+  const auto copy = static_cast<std::uint32_t>(m.vertices.size());
+  m.vertices.push_back(m.vertices[7]);
+  m.triangles[11][1] = copy;
+  for (int i = 0; i < 200; ++i) m.triangles.push_back({7, copy, 3});
+  meshes::save_mesh(m, (dir_ / "seam.obj").string());
+  const std::string mesh = (dir_ / "seam.obj").string();
+  EXPECT_NE(error_of(write("raw.json", R"({"mesh": "seam.obj"})")).find("'" + mesh + "': 200 degenerate faces"),
+            std::string::npos);
+  const Scene s = load_scene_file(write("welded.json", R"({"mesh": "seam.obj", "weld": 1e-9})"));
+  ASSERT_TRUE(s.root.mesh);
+  EXPECT_EQ(s.root.mesh->mesh().triangles.size(), 12u);
+  EXPECT_EQ(mesh_notes(s.root),
+            std::vector<std::string>{"mesh '" + mesh + "' welded at 1e-09: 1 vertices merged, 200 faces with a "
+                                     "repeated index removed"});
+  const std::string both = write("both.json", R"({"type": "union", "children": [{"mesh": "seam.obj", "weld": 1e-9},
+                                                  {"mesh": "seam.obj"}]})");
+  EXPECT_NE(error_of(both).find("/sdf/children/1/mesh: '" + mesh + "': 200 degenerate faces"), std::string::npos)
+      << error_of(both);
+  EXPECT_NE(error_of(write("neg.json", R"({"mesh": "seam.obj", "weld": -1})")).find("/sdf/weld"), std::string::npos);
+}
+
 // 10000 nested nodes, and a million nested arrays anywhere in the file: an error, not a stack overflow (the
 // JSON parser and its destructor are iterative; the tree reader stops at 64 levels).
 TEST(SceneFile, VeryDeepNestingGivesAnErrorNotAStackOverflow) {

@@ -166,9 +166,9 @@ std::vector<OpRules> field_rules() {
        },
        compile_as_given<TapeOp::mandelbulb>,
        {}},
-      {{Op::mesh, "mesh", 3, 0, 0, 0, {},
+      {{Op::mesh, "mesh", 3, 0, 0, 0, {P{"weld", 1, {0}, 0, 1e6}},
         "closed, consistently oriented triangle mesh (\"mesh\": a file, or procedural:NAME(ARGS)): exact signed "
-        "distance"},
+        "distance; \"weld\": a distance within which vertices are merged first (0: off)"},
        [](const Node& n, auto, double) {
          return FieldInfo{Kind::exact, 1, n.mesh ? n.mesh->bounds() : Box3{},
                           "closed, consistently oriented mesh: distance to the closest triangle, sign by "

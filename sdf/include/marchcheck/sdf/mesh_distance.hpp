@@ -16,6 +16,7 @@
 #include <iterator>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace marchcheck::sdf {
@@ -28,10 +29,11 @@ struct MeshShapeError : std::runtime_error {
 
 class MeshDistance {
  public:
-  // Throws MeshShapeError naming the problem.
-  explicit MeshDistance(const meshes::Mesh& mesh);
+  // Throws MeshShapeError naming the problem. note: what loading changed in the mesh (a weld), said to the user.
+  explicit MeshDistance(const meshes::Mesh& mesh, std::string note = {});
 
   const meshes::Mesh& mesh() const { return mesh_; }
+  const std::string& note() const { return note_; }
   const Box3& bounds() const { return bounds_; }
 
   // Which part of the closest triangle the closest point lies on; each has its own pseudonormal.
@@ -104,6 +106,7 @@ class MeshDistance {
   }
 
   meshes::Mesh mesh_;
+  std::string note_;
   Box3 bounds_;
   std::vector<std::uint32_t> order_;  // BVH position -> index in mesh_.triangles
   Arrays<float> single_;

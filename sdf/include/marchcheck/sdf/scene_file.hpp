@@ -21,6 +21,8 @@ using MeshLoader = std::function<meshes::Mesh(const std::string& source)>;
 
 // Loads the triangles of every mesh node of the scene's trees. Throws SceneError "/json/path/mesh: problem".
 void load_meshes(Scene& scene, const MeshLoader& loader = meshes::load_mesh_source);
+// What loading changed in a tree's meshes (each mesh's "weld"), one line each, for the user to read.
+std::vector<std::string> mesh_notes(const Node& root);
 
 // source names the text in error messages (a file path); relative mesh paths are found beside it. Throws
 // SceneError: "source:line:column: problem" for syntax errors, "source: /json/path: problem" for content errors.
