@@ -15,16 +15,17 @@ namespace marchcheck::meshes {
 WeldResult weld(Mesh& mesh, double tolerance) {
   if (!(tolerance >= 0) || !std::isfinite(tolerance))
     throw MeshError("weld: the tolerance must be a finite number >= 0");
-  // Cells of the tolerance's size: a vertex's partners lie in its own cell or the 26 around it. With tolerance 0
-  // every position is its own cell (its bits), so only equal positions merge.
+  // Cells twice the tolerance wide: partners lie less than half a cell apart, so in the same cell or one of the 26
+  // around it even after the division rounds (cell numbers are kept below 2^48, where it rounds by under 1/16).
+  // With tolerance 0 every position is its own cell (its bits), so only equal positions merge.
   using Cell = std::array<std::int64_t, 3>;
   const auto cell_of = [&](glm::dvec3 p) {
     Cell c{};
     for (int i = 0; i < 3; ++i) {
-      const double x = tolerance > 0 ? std::floor(p[i] / tolerance) : p[i] == 0 ? 0.0 : p[i];
-      if (tolerance > 0 && std::abs(x) > 4.6e18) {
+      const double x = tolerance > 0 ? std::floor(p[i] / (2 * tolerance)) : p[i] == 0 ? 0.0 : p[i];
+      if (tolerance > 0 && std::abs(x) > 0x1p48) {
         std::ostringstream what;
-        what << "weld: a tolerance of " << tolerance << " is too small for a coordinate of " << p[i];
+        what << "weld: a tolerance of " << tolerance << " is below double's resolution at a coordinate of " << p[i];
         throw MeshError(what.str());
       }
       c[static_cast<std::size_t>(i)] = tolerance > 0 ? static_cast<std::int64_t>(x) : std::bit_cast<std::int64_t>(x);

@@ -298,12 +298,19 @@ TEST(Weld, ClosesASplitSeamAndRemovesTheSliversItCollapses) {
   EXPECT_EQ(describe(r, 1e-12), "welded at 1e-12: 1 vertices merged, 200 faces with a repeated index removed");
 }
 
+// Broken variants: a merge past the tolerance (a 3x looser distance test); a tolerance below double's resolution
+// at the coordinates taken (its cells, rounded, no longer neighbour: the 2.7e-16 seam at 1 was missed at 1e-16).
 TEST(Weld, MergesOnlyWithinTheTolerance) {
-  Mesh apart = split_seam_box();
-  const WeldResult none = weld(apart, 1e-16);  // the copy is 2.7e-16 away
+  Mesh apart = box({1, 1, 1}).mesh;
+  apart.vertices.push_back(apart.vertices[7] + dvec3(0, 1e-9, 0));
+  apart.triangles[11][1] = 8;
+  const WeldResult none = weld(apart, 0.5e-9);
   EXPECT_EQ(none.merged_vertices, 0);
   EXPECT_EQ(none.removed_faces, 0);
-  EXPECT_EQ(describe(none, 1e-16), "welded at 1e-16: nothing to weld");
+  EXPECT_EQ(describe(none, 0.5e-9), "welded at 5e-10: nothing to weld");
+  EXPECT_EQ(weld(apart, 2e-9).merged_vertices, 1);
+  Mesh seam = split_seam_box();
+  EXPECT_THROW(weld(seam, 1e-16), MeshError);
   // A pair straddling a cell boundary (cells are the tolerance wide) still merges; 0 merges equal positions only.
   Mesh straddle{{{0.999e-3, 0, 0}, {1.001e-3, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{0, 2, 3}, {1, 2, 3}}};
   EXPECT_EQ(weld(straddle, 1e-5).merged_vertices, 1);

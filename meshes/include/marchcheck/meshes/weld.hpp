@@ -15,8 +15,8 @@ struct WeldResult {
 
 // Merges each vertex into the first earlier kept vertex within tolerance (Euclidean; 0 merges exactly equal
 // positions only), removes the faces the merge leaves with a repeated index, and drops vertices no face uses.
-// Faces keep their order. Throws MeshError for a negative or non-finite tolerance, or one so small beside the
-// coordinates that its grid would not fit 62-bit cell numbers.
+// Faces keep their order. Throws MeshError for a negative or non-finite tolerance, or one below about 2^-47 of
+// the coordinates (where double cannot tell positions that close apart).
 WeldResult weld(Mesh& mesh, double tolerance);
 
 // "welded at TOL: N vertices merged, M faces with a repeated index removed" (or "nothing to weld").
