@@ -479,6 +479,10 @@ class TileRenderer {
   int index(const PixelState& p) const { return static_cast<int>(&p - px_.data()); }
   double* visibility(const PixelState& p) { return visibility_ + static_cast<size_t>(index(p)) * lights_; }
   bool surface(const PixelState& p) const { return p.hit || p.on_mesh; }
+  // The ray's direction in double, unit length, as the oracle is asked along it (its t is along this).
+  static glm::dvec3 unit_direction(const PixelState& p) {
+    return glm::dvec3(p.direction) / glm::length(glm::dvec3(p.direction));
+  }
 
   // The camera's rays, for every pixel at once (bit for bit the ray of each pixel), charged to the march.
   void make_rays() {
@@ -544,7 +548,7 @@ class TileRenderer {
   void reference_surfaces() {
     stage(kMarch, [&](PixelState& p, int, int) {
       const double len = glm::length(glm::dvec3(p.direction));
-      const auto hit = ctx_.oracle->first_hit(glm::dvec3(p.origin), glm::dvec3(p.direction) / len, s_.max_dist);
+      const auto hit = ctx_.oracle->first_hit(glm::dvec3(p.origin), unit_direction(p), s_.max_dist);
       p.record = {};
       p.record.outcome = hit ? Outcome::hit : Outcome::miss_far;
       p.record.t = hit ? static_cast<T>(hit->t / len) : T(0);
@@ -627,8 +631,7 @@ class TileRenderer {
       stage(kShadow, [&](PixelState& p, int, int) {
         if (!surface(p)) return std::uint64_t{0};
         if (!ctx_.oracle || !p.hit) return tracer_.shadows(p.point, p.normal, p.record.t, visibility(p));
-        const glm::dvec3 direction = glm::normalize(glm::dvec3(p.direction));
-        tracer_.reference_shadows(glm::dvec3(p.origin) + direction * p.reference_t, glm::dvec3(p.normal),
+        tracer_.reference_shadows(glm::dvec3(p.origin) + unit_direction(p) * p.reference_t, glm::dvec3(p.normal),
                                   p.reference_lift, visibility(p));
         return std::uint64_t{0};
       });

@@ -180,14 +180,15 @@ std::string position(dvec3 p) {
   return out.str();
 }
 
-// "N what (at A, B, C, ...)": the count and where the first few lie.
+// "N what (A, B, C, ...)": the count and where the first kReportExamples lie.
 template <class T, class Show>
 std::string counted(int n, const std::string& what, const std::vector<T>& at, Show show) {
   std::string out = std::to_string(n) + " " + what;
   if (at.empty()) return out;
+  const std::size_t shown = std::min(at.size(), kReportExamples);
   out += " (";
-  for (std::size_t i = 0; i < at.size(); ++i) out += (i ? ", " : "") + show(at[i]);
-  return out + (static_cast<std::size_t>(n) > at.size() ? ", ...)" : ")");
+  for (std::size_t i = 0; i < shown; ++i) out += (i ? ", " : "") + show(at[i]);
+  return out + (static_cast<std::size_t>(n) > shown ? ", ...)" : ")");
 }
 
 std::string edge_at(const std::array<dvec3, 2>& e) { return position(e[0]) + "-" + position(e[1]); }
@@ -219,11 +220,7 @@ std::string solid_problem(const MeshReport& r) {
                        counted(static_cast<int>(r.crossing_triangles.size()),
                                "pairs of triangles pass through each other, so the mesh has no single inside and its "
                                "distance no sign: triangles",
-                               std::vector(r.crossing_triangles.begin(),
-                                           r.crossing_triangles.begin() +
-                                               static_cast<std::ptrdiff_t>(std::min(kReportExamples,
-                                                                                    r.crossing_triangles.size()))),
-                               [](const std::array<std::size_t, 2>& p) {
+                               r.crossing_triangles, [](const std::array<std::size_t, 2>& p) {
                                  return std::to_string(p[0] + 1) + " and " + std::to_string(p[1] + 1);
                                }));
   if (problems.empty() && !r.closed) return "no triangles";

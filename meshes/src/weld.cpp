@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -35,26 +36,27 @@ WeldResult weld(Mesh& mesh, double tolerance) {
   std::map<Cell, std::vector<std::uint32_t>> kept;
   std::vector<std::uint32_t> into(mesh.vertices.size());
   WeldResult result;
-  for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
-    const glm::dvec3 p = mesh.vertices[v];
-    const Cell c = cell_of(p);
-    into[v] = v;
+  // The first kept vertex within tolerance of p (cell c), if any.
+  const auto partner = [&](glm::dvec3 p, const Cell& c) -> std::optional<std::uint32_t> {
     const int reach = tolerance > 0 ? 1 : 0;
-    for (int dx = -reach; dx <= reach && into[v] == v; ++dx)
-      for (int dy = -reach; dy <= reach && into[v] == v; ++dy)
-        for (int dz = -reach; dz <= reach && into[v] == v; ++dz) {
+    for (int dx = -reach; dx <= reach; ++dx)
+      for (int dy = -reach; dy <= reach; ++dy)
+        for (int dz = -reach; dz <= reach; ++dz) {
           const auto found = kept.find({c[0] + dx, c[1] + dy, c[2] + dz});
           if (found == kept.end()) continue;
           for (const std::uint32_t k : found->second)
-            if (glm::distance(mesh.vertices[k], p) <= tolerance) {
-              into[v] = k;
-              break;
-            }
+            if (glm::distance(mesh.vertices[k], p) <= tolerance) return k;
         }
-    if (into[v] == v) {
-      kept[c].push_back(v);
-    } else {
+    return std::nullopt;
+  };
+  for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
+    const Cell c = cell_of(mesh.vertices[v]);
+    if (const auto k = partner(mesh.vertices[v], c)) {
+      into[v] = *k;
       ++result.merged_vertices;
+    } else {
+      into[v] = v;
+      kept[c].push_back(v);
     }
   }
   // Faces through the merge; then the vertices still used, renumbered in their order.

@@ -298,9 +298,9 @@ TEST(Weld, ClosesASplitSeamAndRemovesTheSliversItCollapses) {
   EXPECT_EQ(describe(r, 1e-12), "welded at 1e-12: 1 vertices merged, 200 faces with a repeated index removed");
 }
 
-// Broken variants: a merge past the tolerance (a 3x looser distance test, 0.7e-9 apart at 5e-10); a tolerance below double's resolution
-// at the coordinates taken (its cells, rounded, no longer neighbour: the 2.7e-16 seam at 1 was
-// missed at 1e-16).
+// Broken variants: a merge past the tolerance (a 3x looser distance test, 0.7e-9 apart at 5e-10); a tolerance
+// below double's resolution at the coordinates taken (its cells, rounded, no longer neighbour: the 2.7e-16 seam at
+// 1 was missed at 1e-16).
 TEST(Weld, MergesOnlyWithinTheTolerance) {
   Mesh apart = box({1, 1, 1}).mesh;
   apart.vertices.push_back(apart.vertices[7] + dvec3(0, 0.7e-9, 0));  // within reach of the 5e-10 grid
