@@ -128,6 +128,14 @@ template <class S, std::size_t N>
   return v;
 }
 
+// (x, y, z) · across, lane by lane. Vectors by reference only: GCC checks a function's vector parameters and
+// return at the end of the translation unit, outside this file's diagnostic pragma, and -Werror then fails a
+// build without AVX over a call that is always inlined.
+template <class V, class A>
+[[gnu::always_inline]] inline void dot_lanes(const V& x, const V& y, const V& z, const A& across, V& out) {
+  out = x * lanes(across[0]) + y * lanes(across[1]) + z * lanes(across[2]);
+}
+
 // Squared distance from p to each of a leaf's triangles, by closest_on_triangle's arithmetic operation for
 // operation (so to the bit), with every candidate point computed and the one its branches would return chosen.
 template <class S, class L>
@@ -141,11 +149,10 @@ inline void leaf_distance2(glm::vec<3, S> p, const L& l, S* out) {
   const V d1 = abx * apx + aby * apy + abz * apz, d2 = acx * apx + acy * apy + acz * apz;
   const V d3 = abx * bpx + aby * bpy + abz * bpz, d4 = acx * bpx + acy * bpy + acz * bpz;
   const V d5 = abx * cpx + aby * cpy + abz * cpz, d6 = acx * cpx + acy * cpy + acz * cpz;
-  const auto side = [](V x, V y, V z, const auto& across) {
-    return x * lanes(across[0]) + y * lanes(across[1]) + z * lanes(across[2]);
-  };
-  const V vc = side(apx, apy, apz, l.across_ab), vb = side(apx, apy, apz, l.across_ac);
-  const V va = side(bpx, bpy, bpz, l.across_bc);
+  V vc, vb, va;
+  dot_lanes(apx, apy, apz, l.across_ab, vc);
+  dot_lanes(apx, apy, apz, l.across_ac, vb);
+  dot_lanes(bpx, bpy, bpz, l.across_bc, va);
   const V t01 = d1 / (d1 - d3), t20 = d2 / (d2 - d6), t12 = (d4 - d3) / ((d4 - d3) + (d5 - d6));
   const V nx = lanes(l.n[0]), ny = lanes(l.n[1]), nz = lanes(l.n[2]);
   // p's height over each plane, in units of |n|.
