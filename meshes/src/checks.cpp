@@ -1,6 +1,7 @@
 #include "marchcheck/meshes/checks.hpp"
 
 #include "self_intersections.hpp"
+#include "vertex_grid.hpp"
 
 #include <glm/geometric.hpp>
 
@@ -60,6 +61,34 @@ bool single_fan(std::vector<std::pair<std::uint32_t, std::uint32_t>>& link) {
   return components == 1;
 }
 
+// Counts the boundary vertices (given with repeats) that have another boundary vertex within kSeamReach of the
+// boundary's bounding diagonal.
+void seams(const Mesh& mesh, std::vector<std::uint32_t> boundary, MeshReport& report) {
+  std::sort(boundary.begin(), boundary.end());
+  boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
+  if (boundary.size() < 2) return;
+  dvec3 lo(mesh.vertices[boundary[0]]), hi(lo);
+  for (const std::uint32_t v : boundary) {
+    lo = glm::min(lo, mesh.vertices[v]);
+    hi = glm::max(hi, mesh.vertices[v]);
+  }
+  const double reach = kSeamReach * glm::distance(lo, hi);
+  if (!(reach > 0)) return;
+  detail::VertexGrid grid(mesh.vertices, reach);
+  for (const std::uint32_t v : boundary) grid.add(v);
+  for (const std::uint32_t v : boundary) {
+    double nearest = reach + 1;
+    grid.find(mesh.vertices[v], [&](std::uint32_t k) {
+      if (k != v) nearest = std::min(nearest, glm::distance(mesh.vertices[k], mesh.vertices[v]));
+      return false;
+    });
+    if (nearest <= reach) {
+      ++report.seam_vertices;
+      report.seam_gap = std::max(report.seam_gap, nearest);
+    }
+  }
+}
+
 }  // namespace
 
 MeshReport inspect(const Mesh& mesh) {
@@ -98,9 +127,9 @@ MeshReport inspect(const Mesh& mesh) {
       directed.emplace_back(edge_key(a, b), a < b);
     }
   std::sort(directed.begin(), directed.end());
-  const auto note = [&](int& count, std::vector<std::array<dvec3, 2>>& at, std::uint64_t key) {
+  const auto note = [&](int& count, std::vector<std::array<std::uint32_t, 2>>& at, std::uint64_t key) {
     if (count++ < static_cast<int>(kReportExamples))
-      at.push_back({mesh.vertices[key >> 32], mesh.vertices[key & 0xffffffffu]});
+      at.push_back({static_cast<std::uint32_t>(key >> 32), static_cast<std::uint32_t>(key & 0xffffffffu)});
   };
   UnionFind loops(n_vertices);
   std::vector<std::uint32_t> on_boundary;
@@ -114,11 +143,13 @@ MeshReport inspect(const Mesh& mesh) {
       const auto a = static_cast<std::uint32_t>(key >> 32), b = static_cast<std::uint32_t>(key & 0xffffffffu);
       loops.join(a, b);
       on_boundary.push_back(a);
+      on_boundary.push_back(b);
     }
     if (uses > 2) note(report.nonmanifold_edges, report.nonmanifold_edges_at, key);
     if (uses > 1 && 2 * forward != uses) note(report.misoriented_edges, report.misoriented_edges_at, key);
     i = j;
   }
+  seams(mesh, on_boundary, report);
   for (std::uint32_t& v : on_boundary) v = static_cast<std::uint32_t>(loops.root(v));
   std::sort(on_boundary.begin(), on_boundary.end());
   report.boundary_loops = static_cast<int>(std::unique(on_boundary.begin(), on_boundary.end()) - on_boundary.begin());
@@ -142,7 +173,7 @@ MeshReport inspect(const Mesh& mesh) {
     link.assign(opposite.begin() + static_cast<std::ptrdiff_t>(start[v]),
                 opposite.begin() + static_cast<std::ptrdiff_t>(start[v + 1]));
     if (!single_fan(link) && report.nonmanifold_vertices++ < static_cast<int>(kReportExamples))
-      report.pinched_vertices_at.push_back(mesh.vertices[v]);
+      report.pinched_vertices_at.push_back(static_cast<std::uint32_t>(v));
   }
 
   // Duplicates: equal positions (-0 and +0 alike) after the first.
@@ -180,53 +211,88 @@ std::string position(dvec3 p) {
   return out.str();
 }
 
-// "N what (A, B, C, ...)": the count and where the first kReportExamples lie.
+// "N what: A, B, C, ...": the count and where the first kReportExamples lie.
 template <class T, class Show>
 std::string counted(int n, const std::string& what, const std::vector<T>& at, Show show) {
   std::string out = std::to_string(n) + " " + what;
-  if (at.empty()) return out;
   const std::size_t shown = std::min(at.size(), kReportExamples);
-  out += " (";
-  for (std::size_t i = 0; i < shown; ++i) out += (i ? ", " : "") + show(at[i]);
-  return out + (static_cast<std::size_t>(n) > shown ? ", ...)" : ")");
+  for (std::size_t i = 0; i < shown; ++i) out += (i ? ", " : ": ") + show(at[i]);
+  return out + (static_cast<std::size_t>(n) > shown && shown > 0 ? ", ..." : "");
 }
 
-std::string edge_at(const std::array<dvec3, 2>& e) { return position(e[0]) + "-" + position(e[1]); }
+// Vertices and faces as the file the mesh came from names them (Mesh::vertex_numbers, face_numbers); vertices
+// always with their position, which every format holds.
+struct Names {
+  const Mesh& mesh;
+  std::string vertex(std::uint32_t v) const {
+    const std::string at = position(mesh.vertices[v]);
+    return mesh.vertex_numbers.empty() ? at : "vertex " + std::to_string(mesh.vertex_numbers[v]) + " at " + at;
+  }
+  std::string edge(const std::array<std::uint32_t, 2>& e) const {
+    const std::string at = position(mesh.vertices[e[0]]) + "-" + position(mesh.vertices[e[1]]);
+    if (mesh.vertex_numbers.empty()) return at;
+    return "vertices " + std::to_string(mesh.vertex_numbers[e[0]]) + "-" + std::to_string(mesh.vertex_numbers[e[1]]) +
+           " at " + at;
+  }
+  std::string face(std::size_t t) const {
+    return std::to_string(mesh.face_numbers.empty() ? t + 1 : mesh.face_numbers[t]);
+  }
+};
+
+// A weld value that merges vertices gap apart: the next power of ten at least twice gap, and not below what double
+// resolves at the mesh's size (weld refuses less).
+double weld_for(double gap, const Mesh& mesh) {
+  double size = 0;
+  for (const dvec3& p : mesh.vertices) size = std::max({size, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  const double floor = std::max(0x1p-44 * size, 1e-300);
+  return std::pow(10.0, std::ceil(std::log10(std::max(2 * gap, floor))));
+}
 
 }  // namespace
 
-std::string solid_problem(const MeshReport& r) {
+std::string solid_problem(const MeshReport& r, const Mesh& mesh) {
+  const Names name{mesh};
+  const auto edge = [&](const std::array<std::uint32_t, 2>& e) { return name.edge(e); };
   std::vector<std::string> problems;
   if (r.degenerate_faces > 0)
-    problems.push_back(counted(r.degenerate_faces, "degenerate faces (a repeated index, or zero area up to rounding): "
-                               "triangles", r.degenerate_faces_at, [](std::size_t f) { return std::to_string(f + 1); }));
+    problems.push_back(counted(r.degenerate_faces, "degenerate faces (a repeated index, or zero area up to rounding)",
+                               r.degenerate_faces_at, [&](std::size_t f) { return "face " + name.face(f); }));
   if (r.boundary_edges > 0)
     problems.push_back("open: " + counted(r.boundary_edges, "boundary edges in " + std::to_string(r.boundary_loops) +
-                                          (r.boundary_loops == 1 ? " loop" : " loops") + " at",
-                                          r.boundary_edges_at, edge_at));
+                                          (r.boundary_loops == 1 ? " loop" : " loops"),
+                                          r.boundary_edges_at, edge));
   if (r.nonmanifold_edges > 0)
-    problems.push_back("non-manifold: " + counted(r.nonmanifold_edges, "edges with three or more faces at",
-                                                  r.nonmanifold_edges_at, edge_at));
+    problems.push_back("non-manifold: " + counted(r.nonmanifold_edges, "edges with three or more faces",
+                                                  r.nonmanifold_edges_at, edge));
   if (r.nonmanifold_vertices > 0)
     problems.push_back("non-manifold: " + counted(r.nonmanifold_vertices,
-                                                  "pinched vertices (their faces form no single fan) at",
-                                                  r.pinched_vertices_at, position));
+                                                  "pinched vertices (their faces form no single fan)",
+                                                  r.pinched_vertices_at, [&](std::uint32_t v) { return name.vertex(v); }));
   if (r.misoriented_edges > 0)
-    problems.push_back("inconsistently oriented: " +
-                       counted(r.misoriented_edges, "edges whose faces run along them the same way at",
-                               r.misoriented_edges_at, edge_at));
+    problems.push_back("inconsistently oriented: " + counted(r.misoriented_edges,
+                                                             "edges whose faces run along them the same way",
+                                                             r.misoriented_edges_at, edge));
   if (!r.crossing_triangles.empty())
     problems.push_back("self-intersecting: " +
                        counted(static_cast<int>(r.crossing_triangles.size()),
                                "pairs of triangles pass through each other, so the mesh has no single inside and its "
-                               "distance no sign: triangles",
-                               r.crossing_triangles, [](const std::array<std::size_t, 2>& p) {
-                                 return std::to_string(p[0] + 1) + " and " + std::to_string(p[1] + 1);
+                               "distance no sign",
+                               r.crossing_triangles, [&](const std::array<std::size_t, 2>& p) {
+                                 return "faces " + name.face(p[0]) + " and " + name.face(p[1]);
                                }));
   if (problems.empty() && !r.closed) return "no triangles";
-  if (!problems.empty() && r.duplicate_vertices > 0 && r.boundary_edges > 0)
-    problems.push_back(std::to_string(r.duplicate_vertices) +
-                       " vertices repeat an earlier vertex's position: seams split there (merging them may close it)");
+  if (r.seam_vertices > 0) {
+    std::ostringstream seam;
+    seam << std::setprecision(3) << r.seam_vertices << " boundary vertices lie ";
+    if (r.seam_gap == 0) {
+      seam << "at the position of";
+    } else {
+      seam << "within " << r.seam_gap << " of";
+    }
+    seam << " another boundary vertex: a seam split there (a mesh node's \"weld\": " << weld_for(r.seam_gap, mesh)
+         << " merges them and may close it)";
+    problems.push_back(seam.str());
+  }
   std::string out;
   for (const auto& p : problems) out += (out.empty() ? "" : "; ") + p;
   return out;

@@ -46,6 +46,9 @@ Format format_or_fail(const std::string& path) {
   return *format;
 }
 
+// Where the format starts counting vertices and faces (what a user sees in the file and in their tools).
+std::uint32_t first_number(Format format) { return format == Format::off || format == Format::ply ? 0 : 1; }
+
 const char* name_of(Format format) {
   switch (format) {
     case Format::obj: return "OBJ";
@@ -94,30 +97,40 @@ void merge_identical_vertices(Mesh& mesh) {
   for (auto& triangle : mesh.triangles)
     for (auto& index : triangle) index = remap[index];
   mesh.vertices = std::move(merged);
+  mesh.vertex_numbers.clear();  // a merged corner has no one number in the file
 }
 
-Mesh to_triangles(const std::string& path, const detail::Polygons& polygons) {
+Mesh to_triangles(const std::string& path, Format format, const detail::Polygons& polygons) {
   Mesh mesh;
   if (polygons.vertices.size() > INT_MAX) fail(path, "too many vertices");
+  const std::uint32_t first = first_number(format);
+  const std::string numbered = " numbered from " + std::to_string(first);
   mesh.vertices = polygons.vertices;
   for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
     const glm::dvec3 p = mesh.vertices[v];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      fail(path, "vertex " + std::to_string(v) + " has a NaN or infinite coordinate");
+      fail(path, "vertex " + std::to_string(v + first) + " has a NaN or infinite coordinate (vertices" + numbered +
+                     ")");
+    mesh.vertex_numbers.push_back(static_cast<std::uint32_t>(v + first));
   }
   const std::size_t n_faces = polygons.offsets.size() - 1;
   for (std::size_t f = 0; f < n_faces; ++f) {
     const std::size_t begin = polygons.offsets[f], end = polygons.offsets[f + 1];
-    const std::string face = "face " + std::to_string(f) + " of " + std::to_string(n_faces);
+    const std::string face =
+        "face " + std::to_string(f + first) + " of " + std::to_string(n_faces) + " (faces" + numbered + ")";
     if (end - begin < 3) fail(path, face + " has " + std::to_string(end - begin) + " vertices (at least 3 needed)");
     for (std::size_t k = begin; k < end; ++k) {
       const int index = polygons.indices[k];
       if (index < 0 || static_cast<std::size_t>(index) >= mesh.vertices.size())
-        fail(path, face + " refers to a vertex that does not exist (index " + std::to_string(index) +
-                       " counting from 0; the file has " + std::to_string(mesh.vertices.size()) + " vertices)");
+        fail(path, face + " refers to a vertex that does not exist (vertex " +
+                       std::to_string(static_cast<long long>(index) + first) + "; the file has " +
+                       std::to_string(mesh.vertices.size()) + " vertices," + numbered + ")");
     }
     const auto at = [&](std::size_t k) { return static_cast<std::uint32_t>(polygons.indices[k]); };
-    for (std::size_t k = begin + 1; k + 1 < end; ++k) mesh.triangles.push_back({at(begin), at(k), at(k + 1)});
+    for (std::size_t k = begin + 1; k + 1 < end; ++k) {
+      mesh.triangles.push_back({at(begin), at(k), at(k + 1)});
+      mesh.face_numbers.push_back(static_cast<std::uint32_t>(f + first));
+    }
   }
   if (mesh.triangles.empty()) fail(path, "no triangles in the file");
   return mesh;
@@ -161,7 +174,7 @@ Mesh load_mesh(const std::string& path) {
     fail(path, "OpenMesh read " + std::to_string(n_faces) + " of the file's " + std::to_string(*expected.faces) +
                    " faces");
 
-  Mesh mesh = to_triangles(path, polygons);
+  Mesh mesh = to_triangles(path, format, polygons);
   if (format == Format::stl) merge_identical_vertices(mesh);
   return mesh;
 }

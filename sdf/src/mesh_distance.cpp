@@ -22,16 +22,17 @@ double corner_angle(dvec3 a, dvec3 b, dvec3 c) {
 }
 
 // The mesh must be a closed, consistently oriented solid with its normals outward: then every point has a
-// sign. Throws MeshShapeError naming the problem.
-void check_solid(const meshes::Mesh& mesh) {
+// sign. Its report, or MeshShapeError naming the problem.
+meshes::MeshReport solid_report(const meshes::Mesh& mesh) {
   meshes::MeshReport report;
   try {
     report = meshes::inspect(mesh);
   } catch (const meshes::MeshError& e) {  // an index past the vertices
     throw MeshShapeError(e.what());
   }
-  if (const std::string problem = meshes::solid_problem(report); !problem.empty()) throw MeshShapeError(problem);
+  if (const std::string problem = meshes::solid_problem(report, mesh); !problem.empty()) throw MeshShapeError(problem);
   if (!report.outward) throw MeshShapeError("the mesh encloses a negative volume: it is inside out");
+  return report;
 }
 
 // Face normals, angle-weighted vertex pseudonormals, and each directed edge's face: a solid has every edge once
@@ -75,8 +76,8 @@ struct MeshDistance::BinaryNode {
   }
 };
 
-MeshDistance::MeshDistance(const meshes::Mesh& mesh, std::string note) : mesh_(mesh), note_(std::move(note)) {
-  check_solid(mesh);
+MeshDistance::MeshDistance(const meshes::Mesh& mesh, std::string note)
+    : mesh_(mesh), report_(solid_report(mesh)), note_(std::move(note)) {
   const auto& vs = mesh.vertices;
   const auto& ts = mesh.triangles;
   const Pseudonormals normals(mesh);

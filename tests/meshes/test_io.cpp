@@ -477,6 +477,43 @@ TEST(LoadMesh, PolygonsAreFanTriangulated) {
   EXPECT_EQ(m.vertices[7], dvec3(2.5, 2, 0));
 }
 
+// Problems are named as the file numbers them. A pyramid with one side missing (boundary 1-4, 1-5, 4-5 in the
+// OBJ's numbering) whose base is a quad (face 1: triangles 1 and 2) and whose face 5 is a zero-area sliver (the
+// sixth triangle): OBJ numbers vertices and faces from 1, OFF from 0; an STL's facets count from 1 and its corners,
+// which have no number, go by position. Broken variants: triangles counted instead of the file's faces; vertices
+// by their index in the mesh.
+TEST(LoadMesh, ProblemsAreNamedAsTheFileNumbersThem) {
+  const Folder folder;
+  const std::string vertices = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5 1\n2 0 0\n";
+  const std::string obj = folder.file("pyramid.obj"), off = folder.file("pyramid.off");
+  std::string obj_text;
+  for (std::size_t at = 0, end; (end = vertices.find('\n', at)) != std::string::npos; at = end + 1)
+    obj_text += "v " + vertices.substr(at, end - at + 1);
+  write_bytes(obj, obj_text + "f 1 4 3 2\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 1 2 6\n");
+  write_bytes(off, "OFF\n6 5 0\n" + vertices + "4 0 3 2 1\n3 0 1 4\n3 1 2 4\n3 2 3 4\n3 0 1 5\n");
+  const Mesh from_obj = load_mesh(obj), from_off = load_mesh(off);
+  EXPECT_EQ(from_obj.vertex_numbers, (std::vector<std::uint32_t>{1, 2, 3, 4, 5, 6}));
+  EXPECT_EQ(from_obj.face_numbers, (std::vector<std::uint32_t>{1, 1, 2, 3, 4, 5}));
+  const std::string obj_problem = solid_problem(inspect(from_obj), from_obj);
+  const std::string off_problem = solid_problem(inspect(from_off), from_off);
+  for (const std::string part : {"degenerate faces (a repeated index, or zero area up to rounding): face 5;",
+                                  "loop: vertices 1-4 at (0, 0, 0)-(0, 1, 0), vertices 1-5 at (0, 0, 0)-(0.5, 0.5, 1)"})
+    EXPECT_NE(obj_problem.find(part), std::string::npos) << part << "\n" << obj_problem;
+  for (const std::string part : {"rounding): face 4;", "loop: vertices 0-3 at (0, 0, 0)-(0, 1, 0), vertices 0-4 at"})
+    EXPECT_NE(off_problem.find(part), std::string::npos) << part << "\n" << off_problem;
+
+  Mesh open_box = box({1, 1, 1}).mesh;
+  open_box.triangles.pop_back();
+  const std::string stl = folder.file("open.stl");
+  save_mesh(open_box, stl);
+  const Mesh from_stl = load_mesh(stl);
+  EXPECT_TRUE(from_stl.vertex_numbers.empty());
+  EXPECT_EQ(from_stl.face_numbers.size(), 11u);
+  EXPECT_EQ(from_stl.face_numbers.back(), 11u);
+  const std::string stl_problem = solid_problem(inspect(from_stl), from_stl);
+  EXPECT_EQ(stl_problem.rfind("open: 3 boundary edges in 1 loop: (", 0), 0u) << stl_problem;
+}
+
 TEST(LoadMesh, ObjRelativeIndices) {
   const Folder folder;
   const std::string path = folder.file("relative.obj");

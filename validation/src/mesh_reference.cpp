@@ -37,14 +37,17 @@ struct MeshReference::Impl {
   std::unique_ptr<Inside> inside;
 };
 
-MeshReference::MeshReference(const meshes::Mesh& mesh) : impl_(std::make_unique<Impl>()) {
+MeshReference::MeshReference(const meshes::Mesh& mesh) : MeshReference(mesh, meshes::inspect(mesh)) {}
+
+MeshReference::MeshReference(const meshes::Mesh& mesh, const meshes::MeshReport& report)
+    : impl_(std::make_unique<Impl>()) {
   for (const auto& t : mesh.triangles)
     impl_->triangles.emplace_back(point(mesh.vertices[t[0]]), point(mesh.vertices[t[1]]), point(mesh.vertices[t[2]]));
   impl_->tree = std::make_unique<Tree>(impl_->triangles.begin(), impl_->triangles.end());
   impl_->tree->accelerate_distance_queries();
   // Only a solid has an inside; its surface holds every face or surface_mesh throws (a reference that dropped the
   // faces around a pinch once answered wrongly beside it).
-  if (meshes::solid_problem(meshes::inspect(mesh)).empty()) {
+  if (meshes::solid_problem(report, mesh).empty()) {
     impl_->surface = meshes::cgal::surface_mesh(mesh);
     impl_->inside = std::make_unique<Inside>(impl_->surface);
     // The inside test builds its own tree on first use: build it now, while no other thread can call it.

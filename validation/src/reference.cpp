@@ -359,7 +359,7 @@ bool exact_supported(const Node& n, double time) {
 MeshReferences mesh_references(const Node& node) {
   MeshReferences out;
   if (node.op == Op::mesh && node.mesh)
-    out[node.mesh.get()] = std::make_shared<const MeshReference>(node.mesh->mesh());
+    out[node.mesh.get()] = std::make_shared<const MeshReference>(node.mesh->mesh(), node.mesh->report());
   for (const auto& c : node.children) out.merge(mesh_references(c));
   return out;
 }

@@ -3,6 +3,7 @@
 // right at edges and vertices, where the nearest face's own normal can point the wrong way.
 #pragma once
 
+#include "marchcheck/meshes/checks.hpp"
 #include "marchcheck/meshes/closest_point.hpp"
 #include "marchcheck/meshes/mesh.hpp"
 #include "marchcheck/sdf/node.hpp"
@@ -33,6 +34,8 @@ class MeshDistance {
   explicit MeshDistance(const meshes::Mesh& mesh, std::string note = {});
 
   const meshes::Mesh& mesh() const { return mesh_; }
+  // meshes::inspect(mesh()), kept so that a reference built for the same mesh need not inspect it again.
+  const meshes::MeshReport& report() const { return report_; }
   const std::string& note() const { return note_; }
   const Box3& bounds() const { return bounds_; }
 
@@ -106,6 +109,7 @@ class MeshDistance {
   }
 
   meshes::Mesh mesh_;
+  meshes::MeshReport report_;
   std::string note_;
   Box3 bounds_;
   std::vector<std::uint32_t> order_;  // BVH position -> index in mesh_.triangles

@@ -2,6 +2,7 @@
 // Side_of_triangle_mesh for closed meshes, first ray hits with their face normals, shadow visibility.
 #pragma once
 
+#include "marchcheck/meshes/checks.hpp"
 #include "marchcheck/meshes/mesh.hpp"
 #include "marchcheck/validation/reference.hpp"
 
@@ -15,6 +16,9 @@ namespace marchcheck::validation {
 class MeshReference {
  public:
   explicit MeshReference(const meshes::Mesh& mesh);
+  // With the mesh's report (meshes::inspect(mesh)) already made: a mesh node's, whose CGAL crossing test is the
+  // costliest part of inspecting a large mesh.
+  MeshReference(const meshes::Mesh& mesh, const meshes::MeshReport& report);
   ~MeshReference();
   MeshReference(const MeshReference&) = delete;
   MeshReference& operator=(const MeshReference&) = delete;
