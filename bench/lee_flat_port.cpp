@@ -20,14 +20,14 @@ using glm::vec3;
 constexpr int kMaxSteps = 200;
 constexpr float kMaxDist = 100, kSurfDist = 0.01f;
 
-// The shader's GetDist: sphere at (0, 1.2, 0), radius 1, united with the ground y = 0.
+// The shader's GetDist: sphere at the origin, radius 1, united with the ground y + 1.2.
 float get_dist(vec3 p) {
-  const float sphere = glm::length(p - vec3(0, 1.2f, 0)) - 1.0f;
-  return glm::min(sphere, p.y);
+  const float sphere = glm::length(p) - 1.0f;
+  return glm::min(sphere, p.y + 1.2f);
 }
 
 // Material 1 (ground) where the ground is nearer, else 0 (sphere); one more call of the field, as the renderer's.
-int get_material(vec3 p) { return p.y < glm::length(p - vec3(0, 1.2f, 0)) - 1.0f ? 1 : 0; }
+int get_material(vec3 p) { return p.y + 1.2f < glm::length(p) - 1.0f ? 1 : 0; }
 
 struct March {
   float t = 0;
@@ -77,7 +77,8 @@ vec3 shade(vec3 ro, vec3 rd, vec3 light_pos, std::uint64_t& evals) {
   const vec3 l = glm::normalize(to_light);
   const float diffuse = glm::clamp(glm::dot(n, l), 0.0f, 1.0f);
   const float specular = strength * std::pow(glm::clamp(glm::dot(glm::reflect(-l, n), glm::normalize(ro - p)), 0.0f, 1.0f), 10.0f);
-  return glm::max(albedo * diffuse * glm::mix(0.3f, 1.0f, visible) + vec3(specular * visible), vec3(0));
+  // The specular is added in shadow too, as the seed adds it.
+  return glm::max(albedo * diffuse * glm::mix(0.3f, 1.0f, visible) + vec3(specular), vec3(0));
 }
 
 }  // namespace

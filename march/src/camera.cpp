@@ -48,19 +48,20 @@ inline NewtonStep newton_step(const Lens& lens, glm::dvec2 target, glm::dvec2 u)
   return {u - glm::dvec2(jy.y * r.x - jy.x * r.y, -jx.y * r.x + jx.x * r.y) / det, moved};
 }
 
+// The lens in the image's coordinates, y down: a shader distorts with y up, which is the same as p1 of the other
+// sign.
+Lens lens_of(const sdf::CameraSpec& spec) {
+  return Lens{spec.k1, spec.k2, spec.lens == sdf::LensConvention::shader ? -spec.p1 : spec.p1, spec.p2};
+}
+
 }  // namespace
 
 Camera::Camera(const sdf::CameraSpec& spec, int width, int height) : spec_(spec), width_(width), height_(height) {
-  if (spec.pose == sdf::CameraPose::orbit) {
-    const double yaw = spec.yaw_deg * kDegree, pitch = spec.pitch_deg * kDegree;
-    eye_ = spec.target +
-           spec.distance * glm::dvec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
-  } else {
-    eye_ = spec.position;
-  }
-  forward_ = glm::normalize(spec.target - eye_);
-  right_ = glm::normalize(glm::cross(forward_, spec.up));
-  up_ = glm::cross(right_, forward_);
+  const sdf::CameraFrame frame = sdf::camera_frame(spec);
+  eye_ = frame.eye;
+  right_ = frame.right;
+  up_ = frame.up;
+  forward_ = frame.forward;
   if (spec.model == sdf::CameraModel::intrinsics) {
     fx_ = spec.fx;
     fy_ = spec.fy;
@@ -76,12 +77,12 @@ Camera::Camera(const sdf::CameraSpec& spec, int width, int height) : spec_(spec)
 glm::dvec2 Camera::distort(glm::dvec2 u) const {
   // Lens distortion belongs to the intrinsics model only.
   if (spec_.model != sdf::CameraModel::intrinsics) return u;
-  return Lens{spec_.k1, spec_.k2, spec_.p1, spec_.p2}.distort(u);
+  return lens_of(spec_).distort(u);
 }
 
 glm::dvec2 Camera::undistort(glm::dvec2 d) const {
   if (spec_.model != sdf::CameraModel::intrinsics) return d;
-  const Lens lens{spec_.k1, spec_.k2, spec_.p1, spec_.p2};
+  const Lens lens = lens_of(spec_);
   glm::dvec2 u = d;
   for (int i = 0; i < kNewtonSteps; ++i) {
     const NewtonStep step = newton_step(lens, d, u);
@@ -91,19 +92,27 @@ glm::dvec2 Camera::undistort(glm::dvec2 d) const {
   return u;
 }
 
+glm::dvec2 Camera::through_lens(glm::dvec2 pixel) const {
+  return spec_.lens == sdf::LensConvention::shader ? distort(pixel) : undistort(pixel);
+}
+
+glm::dvec2 Camera::onto_image(glm::dvec2 ray) const {
+  return spec_.lens == sdf::LensConvention::shader ? undistort(ray) : distort(ray);
+}
+
 Ray Camera::intrinsics_ray(glm::dvec2 undistorted) const {
   const glm::dvec3 d = forward_ + right_ * undistorted.x - up_ * undistorted.y;
   return {eye_, spec_.normalize_rays ? glm::normalize(d) : d};
 }
 
 void Camera::rays(const double* px, const double* py, int n, Ray* out) const {
-  if (spec_.model != sdf::CameraModel::intrinsics) {
+  if (spec_.model != sdf::CameraModel::intrinsics || spec_.lens == sdf::LensConvention::shader) {
     for (int i = 0; i < n; ++i) out[i] = ray(px[i], py[i]);
     return;
   }
   // undistort() for a block of pixels at once: each lane takes the same Newton steps as alone, and stops with it.
   constexpr int kBlock = 64;
-  const Lens lens{spec_.k1, spec_.k2, spec_.p1, spec_.p2};
+  const Lens lens = lens_of(spec_);
   for (int base = 0; base < n; base += kBlock) {
     const int m = std::min(kBlock, n - base);
     double tx[kBlock], ty[kBlock], ux[kBlock], uy[kBlock];
@@ -151,7 +160,7 @@ Ray Camera::ray(double px, double py) const {
       const glm::dvec3 top = glm::mix(top_left, top_right, u), bottom = glm::mix(bottom_left, bottom_right, u);
       return {eye_, glm::normalize(glm::mix(top, bottom, v))};
     }
-    default: return intrinsics_ray(undistort({(px - cx_) / fx_, (py - cy_) / fy_}));
+    default: return intrinsics_ray(through_lens({(px - cx_) / fx_, (py - cy_) / fy_}));
   }
 }
 
@@ -169,7 +178,7 @@ std::optional<glm::dvec2> Camera::project(glm::dvec3 world) const {
     const double th = std::tan(spec_.fov_deg * kDegree * 0.5), tw = th * width_ / height_;
     return glm::dvec2((n.x / tw + 1) * 0.5 * width_, (n.y / th + 1) * 0.5 * height_);
   }
-  const glm::dvec2 d = distort(n);
+  const glm::dvec2 d = onto_image(n);
   return glm::dvec2(fx_ * d.x + cx_, fy_ * d.y + cy_);
 }
 

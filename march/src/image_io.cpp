@@ -53,6 +53,10 @@ void write_image(const Image& image, const std::string& path, bool srgb) {
   OIIO::Filesystem::IOVecOutput memory(bytes);
   OIIO::ImageSpec spec(image.width, image.height, image.channels,
                        as_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  if (!as_float) {
+    spec.attribute("oiio:ColorSpace", srgb ? "sRGB" : "linear");
+    spec.attribute("marchcheck:transfer", srgb ? "srgb" : "linear");
+  }
   bool ok = out->set_ioproxy(&memory) && out->open(path, spec);
   if (ok) {
     if (as_float) {
@@ -86,7 +90,7 @@ Image heat_map(const Image& values, double max_value) {
 void write_render(const RenderResult& r, const std::string& path, const std::vector<Aov>& aovs, const Image* error) {
   if (!error && std::find(aovs.begin(), aovs.end(), Aov::error) != aovs.end())
     throw std::invalid_argument("the error AOV needs the difference from a reference render");
-  write_image(r.color, path, true);
+  write_image(r.color, path, r.transfer == sdf::OutputTransfer::srgb);
   const std::string base = base_of(path);
   for (Aov aov : aovs) {
     switch (aov) {

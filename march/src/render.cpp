@@ -151,9 +151,10 @@ glm::dvec3 material_color(const Context& ctx, int material, glm::dvec3 p, glm::d
   const glm::dvec3 q = p - n * scene.march.hit_eps;
   if (m.texture == sdf::TextureMapping::planar)
     return m.color * sample_texture(soil_texture_path(), q.x * m.texture_scale, q.z * m.texture_scale);
-  const glm::dvec3 d = glm::normalize(q);
-  const double u = 0.5 + std::atan2(d.z, d.x) / (2 * std::numbers::pi),
-               v = 0.5 - std::asin(std::clamp(d.y, -1.0, 1.0)) / std::numbers::pi;
+  // The seed's: polar angle from +y, then longitude, about the texture's origin (the sphere's centre).
+  const glm::dvec3 r = q - m.texture_origin;
+  const double u = glm::fract(std::atan2(std::sqrt(r.x * r.x + r.z * r.z), r.y) / std::numbers::pi),
+               v = glm::fract(std::atan2(r.z, r.x) / (2 * std::numbers::pi));
   return m.color * sample_texture(soil_texture_path(), u * m.texture_scale, v * m.texture_scale);
 }
 
@@ -213,8 +214,9 @@ void direct_light(const Context& ctx, LitPoints<S, N>& in) {
   }
   const bool toon = effects.shading == sdf::Shading::toon;
   const S bands = S(effects.toon_bands);
+  // The seed's bands: mix(0.1, 1, mod(floor(bands x), bands) / (bands - 1)), so x = 1 falls in the lowest band.
   auto quantise = [&](S x) {
-    const S band = std::min(std::floor(std::clamp(x, S(0), S(1)) * bands), bands - 1);
+    const S scaled = std::floor(std::clamp(x, S(0), S(1)) * bands), band = scaled == bands ? S(0) : scaled;
     return glm::mix(S(0.1), S(1), band / (bands - 1));
   };
   // Per-scene choices made outside the loops.
@@ -225,6 +227,7 @@ void direct_light(const Context& ctx, LitPoints<S, N>& in) {
     const glm::vec<3, S> at(ctx.light_positions[li]), toward = -glm::normalize(glm::vec<3, S>(light.direction));
     const glm::vec<3, S> color(light.color);
     const S darkening = S(light.darkening);
+    const bool specular_kept = light.specular_in_shadow;
     alignas(64) S diffuse[N], base[N], specular[N], visible[N], lx[N], ly[N], lz[N];  // l: toward the light
     for (int i = 0; i < n; ++i) visible[i] = S(in.visibility[i][li]);
     auto lambert_and_phong = [&](auto point_light) {
@@ -262,7 +265,7 @@ void direct_light(const Context& ctx, LitPoints<S, N>& in) {
         specular[i] = model[i] != S(0) ? std::min(quantise(specular[i]), diffuse[i]) : S(0);
       }
     for (int i = 0; i < n; ++i) {
-      const S v = visible[i], shade = glm::mix(darkening, S(1), v), lit = specular[i] * v;
+      const S v = visible[i], shade = glm::mix(darkening, S(1), v), lit = specular[i] * (specular_kept ? S(1) : v);
       in.r[i] += color.x * (in.ar[i] * diffuse[i] * shade + lit);
       in.g[i] += color.y * (in.ag[i] * diffuse[i] * shade + lit);
       in.b[i] += color.z * (in.ab[i] * diffuse[i] * shade + lit);
@@ -811,6 +814,7 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const
 
   RenderResult out;
   out.color = Image(w, h, 3);
+  out.transfer = scene.output_transfer;
   auto keep = [&](Aov aov) { return images == Images::all || std::find(aovs.begin(), aovs.end(), aov) != aovs.end(); };
   if (keep(Aov::depth)) out.depth = Image(w, h, 1);
   if (keep(Aov::normal)) out.normal = Image(w, h, 3);

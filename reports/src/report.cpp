@@ -202,8 +202,9 @@ class Builder {
     r.result = validation::validate_scene(scene, options);
     const validation::ImagePair& pair = *r.result.images;
     const fs::path images = root_ / "images";
-    march::write_image(pair.marched.color, (images / (r.file + ".marched.png")).string());
-    march::write_image(pair.reference.color, (images / (r.file + ".reference.png")).string());
+    const bool srgb = pair.marched.transfer == sdf::OutputTransfer::srgb;
+    march::write_image(pair.marched.color, (images / (r.file + ".marched.png")).string(), srgb);
+    march::write_image(pair.reference.color, (images / (r.file + ".reference.png")).string(), srgb);
     march::write_image(march::heat_map(pair.difference, march::kErrorHeatMapMax), (images / (r.file + ".error.png")).string(), false);
     const auto& steps = pair.marched.steps.pixels;
     r.steps_max = steps.empty() ? 0 : static_cast<int>(*std::max_element(steps.begin(), steps.end()));

@@ -52,15 +52,24 @@ Scene base(std::string name, std::string description) {
   return s;
 }
 
-// The seed's ground texture: the soil picture at fract(0.2 p.xz).
+// The seed's ground texture: the soil picture at fract(0.2 p.xz), used as it is.
 void soil_ground(Material& m) {
   m.texture = TextureMapping::planar;
   m.texture_scale = 0.2;
-  m.color = glm::dvec3(1.2);
+  m.color = glm::dvec3(1);
 }
 
-// lee: sphere (0, 1.2, 0) r 1 over the ground; orbit camera, f = 600 px intrinsics, k1 = 0.3; a point light
-// circling at (6 sin 0.3t, 5, 6 cos 0.3t); hard shadows darkening diffuse to 0.3; Phong specular.
+// A shader's own view: the ray (x, y, 1) turned by a rotation (+x right, +z forward), written to the framebuffer
+// as it is.
+void shader_view(Scene& s) {
+  s.camera.axes = CameraAxes::shader;
+  s.output_transfer = OutputTransfer::linear;
+}
+
+// lee, the final listing: sphere r 1 at the origin over the ground y + 1.2 (+ the terrain's height); the camera
+// orbits the origin at distance 6, pitch 0.3 rad, eye on -z at yaw 0 (a shader's axes), f = 600 px, the lens's
+// k1 = 0.3 applied forward (the ray through the distorted point); a point light circling at (6 sin 0.3t, 5,
+// 6 cos 0.3t); hard shadows darkening diffuse to 0.3; Phong specular added in shadow too.
 Scene lee(bool terrain) {
   Scene s = base(terrain ? "lee-terrain" : "lee-flat",
                  terrain ? "Sphere over a value-noise height-field terrain (SDF y + height(x,z)), marched at f/L"
@@ -76,21 +85,25 @@ Scene lee(bool terrain) {
   for (auto& m : s.materials) m.shininess = 10;
   Node floor = terrain ? make(Op::heightfield, {{"octaves", {-0.5, 0.5, -0.05, 2, -0.012, 4}}}, {}, ground)
                        : plane({0, 1, 0}, 0, ground);
-  s.root = unite({translate({0, 1.2, 0}, sphere(1, ball)), std::move(floor)});
+  s.root = unite({sphere(1, ball), translate({0, -1.2, 0}, std::move(floor))});
   s.camera.model = CameraModel::intrinsics;
   s.camera.pose = CameraPose::orbit;
+  s.camera.target = glm::dvec3(0);
   s.camera.distance = 6;
   s.camera.yaw_deg = 0;
   s.camera.pitch_deg = 0.3 * 180 / std::numbers::pi;
   s.camera.fx = s.camera.fy = 600;
   s.camera.k1 = 0.3;
+  s.camera.lens = LensConvention::shader;
+  shader_view(s);
   Light light = point_light({0, 5, 0}, {1, 1, 1});
   light.motion_sin = {6, 0, 0};
   light.motion_cos = {0, 0, 6};
-  light.motion_rate = 0.3;
+  light.motion_rate = glm::dvec3(0.3);
   light.shadow = ShadowMode::hard;
   light.bias = ShadowBias::scaled;  // the fix: the seed's 10 * SURF_DIST fails at other scales
   light.darkening = 0.3;
+  light.specular_in_shadow = true;
   s.lights = {light};
   s.march.max_steps = 200;
   s.march.max_dist = 100;
@@ -109,13 +122,15 @@ Scene lee(bool terrain) {
   return s;
 }
 
+// The sphere's texture at the seed's (polar angle / pi, longitude / 2 pi) about its centre, the ground's the soil.
 Scene lee_textured() {
   Scene s = lee(false);
   s.name = "lee-textured";
-  s.description = "lee-flat with the soil texture at fract(0.2 p.xz) on the ground and a longitude/latitude one on "
+  s.description = "lee-flat with the soil texture at fract(0.2 p.xz) on the ground and a latitude/longitude one on "
                   "the sphere";
   s.materials[0].texture = TextureMapping::spherical;
-  s.materials[0].color = {0.9, 1.2, 1.6};
+  s.materials[0].color = glm::dvec3(1);
+  s.materials[0].texture_origin = glm::dvec3(0);  // the sphere's centre
   soil_ground(s.materials[1]);
   return s;
 }
@@ -165,8 +180,7 @@ void crum_common(Scene& s) {
   s.effects.ambient = 0.1;
   s.effects.ao = AmbientOcclusion::steps;
   s.effects.ao_steps_scale = 1.0 / 3000;
-  s.effects.glow = 0.6;  // misses glow from the smallest |f| the march saw
-  s.effects.glow_width = 0.3;
+  s.output_transfer = OutputTransfer::linear;  // written to the framebuffer as it is
 }
 
 Scene crum_torus() {
@@ -259,21 +273,26 @@ Scene crum_mandelbulb() {
   // 0.6% end undecided).
   s.march.hit_eps = 3e-5;
   s.march.max_steps = 600;
+  // The glow the article shows (its listing draws none on the torus): misses glow from the smallest |f| seen.
+  s.effects.glow = 0.6;
+  s.effects.glow_width = 0.3;
   return s;
 }
 
 Scene fogerty() {
   Scene s = base("fogerty", "Toon-shaded sphere of radius 3 seen from (0, 0, -10) with a 90 degree field of view");
   const int m = add_material(s, "toon", {1, 0, 0});
-  s.materials[0].specular = SpecularModel::blinn;
+  s.materials[0].specular = SpecularModel::phong;  // reflect(-l, n) . to_camera, despite the seed's comment
   s.materials[0].specular_strength = 1;
   s.materials[0].shininess = 4;
   s.root = sphere(3, m);
   look_at(s, {0, 0, -10}, {0, 0, 0}, 90);
+  shader_view(s);  // ray normalize(u aspect, v, 1)
+  // (mix(-1.5, 1.5, sin(t)/2 + 1/2), 3 + mix(-1.5, 1.5, sin(1.3 t)/2 + 1/2), -10) = (0, 3, -10) + 1.5 (sin t,
+  // sin 1.3t, 0).
   Light light = point_light({0, 3, -10}, {1, 1, 1});
-  light.motion_sin = {1.5, 0, 0};
-  light.motion_cos = {0, 1.5, 0};
-  light.motion_rate = 1;
+  light.motion_sin = {1.5, 1.5, 0};
+  light.motion_rate = {1, 1.3, 0};
   s.lights = {light};
   // The fix for the 32-step silhouette: hits within a pixel's footprint, and room to converge.
   s.march.max_steps = 256;
@@ -317,6 +336,7 @@ Scene warped() {
   s.root = make(Op::warp, {}, {sphere(2, m)});
   s.time = 1;
   look_at(s, {0, 0, -1}, {0, 0, 1}, 90);
+  shader_view(s);  // rays along (x, y, 1)
   s.lights = {directional_light({-1, -1, 1}, {1, 0.1, 0.1}), directional_light({1, -1, 1}, {0, 0.25, 0}),
               directional_light({0, 1, 1}, {0, 0, 0.25})};
   s.march.max_steps = 256;

@@ -46,6 +46,10 @@ constexpr EnumName<CameraModel> kCameraModels[] = {{CameraModel::pinhole, "pinho
                                                    {CameraModel::intrinsics, "intrinsics"},
                                                    {CameraModel::frustum, "frustum"},
                                                    {CameraModel::orthographic, "orthographic"}};
+constexpr EnumName<CameraAxes> kCameraAxes[] = {{CameraAxes::right_handed, "right_handed"},
+                                                {CameraAxes::shader, "shader"}};
+constexpr EnumName<LensConvention> kLenses[] = {{LensConvention::opencv, "opencv"}, {LensConvention::shader, "shader"}};
+constexpr EnumName<OutputTransfer> kTransfers[] = {{OutputTransfer::srgb, "srgb"}, {OutputTransfer::linear, "linear"}};
 constexpr EnumName<CameraPose> kCameraPoses[] = {{CameraPose::look_at, "look_at"}, {CameraPose::orbit, "orbit"}};
 constexpr EnumName<LightType> kLightTypes[] = {{LightType::point, "point"}, {LightType::directional, "directional"}};
 
@@ -160,11 +164,20 @@ const std::vector<Field<Light>>& light_fields() {
       vec3_field<Light>("color", MEMBER(Light, color)),
       vec3_field<Light>("motion_sin", MEMBER(Light, motion_sin)),
       vec3_field<Light>("motion_cos", MEMBER(Light, motion_cos)),
-      number_field<Light>("motion_rate", MEMBER(Light, motion_rate), -1e6, 1e6),
+      // One rate for every axis, or one per axis.
+      {"motion_rate",
+       [](const Light& l) {
+         const glm::dvec3 r = l.motion_rate;
+         return r.x == r.y && r.y == r.z ? number_json(r.x) : vec3_json(r);
+       },
+       [](Light& l, const json& v, const std::string& w) {
+         l.motion_rate = v.is_array() ? vec3(v, w) : glm::dvec3(number(v, w, -1e6, 1e6));
+       }},
       enum_field<Light>("shadow", kShadows, MEMBER(Light, shadow)),
       enum_field<Light>("bias", kBiases, MEMBER(Light, bias)),
       number_field<Light>("bias_factor", MEMBER(Light, bias_factor), 0, 1e6),
       number_field<Light>("darkening", MEMBER(Light, darkening), 0, 1),
+      bool_field<Light>("specular_in_shadow", MEMBER(Light, specular_in_shadow)),
       enum_field<Light>("soft", kSoftShadows, MEMBER(Light, soft)),
       number_field<Light>("penumbra", MEMBER(Light, penumbra), 1e-3, 1e6),
   };
@@ -188,6 +201,7 @@ const std::vector<Field<Material>>& material_fields() {
       number_field<Material>("density", MEMBER(Material, density), 0, 1e6),
       enum_field<Material>("texture", kTextures, MEMBER(Material, texture)),
       number_field<Material>("texture_scale", MEMBER(Material, texture_scale), 1e-9, 1e9),
+      vec3_field<Material>("texture_origin", MEMBER(Material, texture_origin)),
       number_field<Material>("ramp_value", MEMBER(Material, ramp_value), -1, 1),
   };
   return table;
@@ -268,6 +282,8 @@ const std::vector<Field<Scene>>& settings() {
       number_field<Scene>("camera.ortho_height", MEMBER(Scene, camera.ortho_height), 1e-12, 1e12),
       bool_field<Scene>("camera.fov_full_height", MEMBER(Scene, camera.fov_full_height)),
       bool_field<Scene>("camera.normalize_rays", MEMBER(Scene, camera.normalize_rays)),
+      enum_field<Scene>("camera.axes", kCameraAxes, MEMBER(Scene, camera.axes)),
+      enum_field<Scene>("camera.lens", kLenses, MEMBER(Scene, camera.lens)),
       vec3_field<Scene>("effects.background", MEMBER(Scene, effects.background)),
       number_field<Scene>("effects.ambient", MEMBER(Scene, effects.ambient), 0, 1),
       enum_field<Scene>("effects.diffuse", kDiffuse, MEMBER(Scene, effects.diffuse)),
@@ -297,6 +313,7 @@ const std::vector<Field<Scene>>& settings() {
          for (size_t i = 0; i < v.size(); ++i) s.effects.ramp.push_back(vec3(v[i], w + "/" + std::to_string(i)));
        }},
       bool_field<Scene>("effects.eye_is_ray_direction", MEMBER(Scene, effects.eye_is_ray_direction)),
+      enum_field<Scene>("output_transfer", kTransfers, MEMBER(Scene, output_transfer)),
   };
   return table;
 }
@@ -655,7 +672,7 @@ std::vector<std::string> declared_effects(const Scene& scene) {
   if (!scene.lights.empty()) add(effects.shading == Shading::toon ? "toon" : "diffuse:" + enum_name(kDiffuse, effects.diffuse));
   for (const auto& l : scene.lights) {
     if (l.shadow != ShadowMode::none) add("shadow:" + enum_name(kShadows, l.shadow) + "/" + enum_name(kBiases, l.bias));
-    if (l.motion_rate != 0) add("moving-light");
+    if (l.motion_rate != glm::dvec3(0)) add("moving-light");
   }
   for (const auto& m : scene.materials) {
     if (m.specular != SpecularModel::none) add("specular:" + enum_name(kSpeculars, m.specular));

@@ -649,20 +649,18 @@ double focal_over_height(const Scene& s) {
 }
 
 // The camera as march::Camera makes its rays, for any iResolution (pixel centres counted from the top, as
-// marchcheck's): its eye and basis, then each model's ray; intrinsics undistort with Newton's steps as it does.
+// marchcheck's): its eye and basis, then each model's ray; intrinsics undistort with Newton's steps as it does (or,
+// with a shader's lens, distort).
 std::string camera_code(const Scene& s) {
   const CameraSpec& c = s.camera;
   const double degree = std::numbers::pi / 180;
-  const glm::dvec3 eye =
-      c.pose == CameraPose::orbit
-          ? c.target + c.distance * glm::dvec3(std::cos(c.pitch_deg * degree) * std::sin(c.yaw_deg * degree),
-                                               std::sin(c.pitch_deg * degree),
-                                               std::cos(c.pitch_deg * degree) * std::cos(c.yaw_deg * degree))
-          : c.position;
+  const glm::dvec3 eye = camera_frame(c).eye;
+  const bool shader_lens = c.lens == LensConvention::shader;
   std::ostringstream out;
   if (c.model == CameraModel::intrinsics) {
-    const std::string k1 = literal(float(c.k1)), k2 = literal(float(c.k2)), p1 = literal(float(c.p1)),
-                      p2 = literal(float(c.p2));
+    // y down, as marchcheck's pixels: a shader's lens (y up) is the same with p1 of the other sign.
+    const std::string k1 = literal(float(c.k1)), k2 = literal(float(c.k2)),
+                      p1 = literal(float(shader_lens ? -c.p1 : c.p1)), p2 = literal(float(c.p2));
     out << "// Brown-Conrady distortion and its Jacobian columns; undistort inverts it by Newton's method.\n"
         << "vec2 distort(vec2 u, out vec2 jx, out vec2 jy) {\n"
         << "  float r2 = u.x * u.x + u.y * u.y, radial = 1.0 + " << k1 << " * r2 + " << k2 << " * r2 * r2;\n"
@@ -681,7 +679,9 @@ std::string camera_code(const Scene& s) {
   out << "void cameraRay(vec2 fragCoord, out vec3 ro, out vec3 rd) {\n"
       << "  vec3 eye = " << vec3_literal(eye) << ";\n"
       << "  vec3 forward = normalize(" << vec3_literal(c.target) << " - eye);\n"
-      << "  vec3 right = normalize(cross(forward, " << vec3_literal(c.up) << ")), up = cross(right, forward);\n"
+      << (c.axes == CameraAxes::shader
+              ? "  vec3 right = normalize(cross(" + vec3_literal(c.up) + ", forward)), up = cross(forward, right);\n"
+              : "  vec3 right = normalize(cross(forward, " + vec3_literal(c.up) + ")), up = cross(right, forward);\n")
       << "  vec2 px = vec2(fragCoord.x, iResolution.y - fragCoord.y);  // from the top, as marchcheck's\n";
   switch (c.model) {
     case CameraModel::orthographic:
@@ -707,7 +707,7 @@ std::string camera_code(const Scene& s) {
   out << "  vec2 at = px / iResolution.y;\n"
       << "  vec2 u = vec2((at.x - " << cx << ") / " << literal(float(fx)) << ", (at.y - " << cy << ") / "
       << literal(float(fy)) << ");\n";
-  if (intrinsics) out << "  u = undistort(u);\n";
+  if (intrinsics) out << (shader_lens ? "  vec2 jx, jy;\n  u = distort(u, jx, jy);\n" : "  u = undistort(u);\n");
   out << "  ro = eye;\n  rd = " << (c.normalize_rays ? "normalize(forward + right * u.x - up * u.y)" : "forward + right * u.x - up * u.y")
       << ";\n}\n";
   return out.str();
@@ -901,12 +901,12 @@ std::string lighting_code(const Scene& s) {
     out << "    vec3 r = -l - n * dot(n, -l) * 2.0; float base = model == 2 ? dot(n, normalize(l + to_eye)) : dot(r, to_eye);\n"
         << "    float specular = model == 0 ? 0.0 : strength * pow(clamp(base, 0.0, 1.0), shininess);\n";
     if (toon)
-      out << "    diffuse = mix(0.1, 1.0, min(floor(clamp(diffuse, 0.0, 1.0) * bands), bands - 1.0) / (bands - 1.0));\n"
-          << "    specular = model != 0 ? min(mix(0.1, 1.0, min(floor(clamp(specular, 0.0, 1.0) * bands), bands - 1.0)"
+      out << "    diffuse = mix(0.1, 1.0, mod(floor(clamp(diffuse, 0.0, 1.0) * bands), bands) / (bands - 1.0));\n"
+          << "    specular = model != 0 ? min(mix(0.1, 1.0, mod(floor(clamp(specular, 0.0, 1.0) * bands), bands)"
           << " / (bands - 1.0)), diffuse) : 0.0;\n";
     out << "    float visible = " << shadow_code(light) << ";\n"
         << "    col += " << vec3_literal(light.color) << " * (albedo * diffuse * mix(" << literal(float(light.darkening))
-        << ", 1.0, visible) + specular * visible);\n  }\n";
+        << ", 1.0, visible) + specular" << (light.specular_in_shadow ? "" : " * visible") << ");\n  }\n";
   }
   if (toon) out << "  if (dot(to_eye, n) < " << literal(float(e.silhouette)) << ") col = vec3(0.0);\n";
   out << "  return col;\n}\n";
@@ -934,9 +934,11 @@ std::string materials_code(const Scene& s) {
     const std::string scale = literal(float(m.texture_scale));
     std::string texture;
     if (m.texture == TextureMapping::planar) texture = " * mc_soil(q.x * " + scale + ", q.z * " + scale + ")";
-    if (m.texture == TextureMapping::spherical)
-      texture = " * mc_soil((0.5 + atan(normalize(q).z, normalize(q).x) / 6.28318531) * " + scale +
-                ", (0.5 - asin(clamp(normalize(q).y, -1.0, 1.0)) / 3.14159265) * " + scale + ")";
+    if (m.texture == TextureMapping::spherical) {
+      const std::string r = "(q - " + vec3_literal(m.texture_origin) + ")";
+      texture = " * mc_soil(fract(atan(length(" + r + ".xz), " + r + ".y) / 3.14159265) * " + scale + ", fract(atan(" +
+                r + ".z, " + r + ".x) / 6.28318531) * " + scale + ")";
+    }
     return vec3_literal(m.color) + texture;
   };
   const auto model = [](const Material& m) {

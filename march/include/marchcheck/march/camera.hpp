@@ -1,5 +1,6 @@
-// Cameras: pinhole by vertical field of view, pinhole by intrinsics with Brown-Conrady distortion, frustum-corner
-// interpolation, orthographic; look-at or orbit pose. Pixel (x, y) has its centre at (x + 0.5, y + 0.5), y down.
+// Cameras: pinhole by vertical field of view, pinhole by intrinsics with Brown-Conrady distortion (OpenCV's
+// convention or a shader's), frustum-corner interpolation, orthographic; look-at or orbit pose, right-handed or a
+// shader's axes (sdf::camera_frame). Pixel (x, y) has its centre at (x + 0.5, y + 0.5), y down.
 #pragma once
 
 #include "marchcheck/march/marcher.hpp"
@@ -38,6 +39,9 @@ class Camera {
  private:
   glm::dvec2 distort(glm::dvec2 undistorted) const;
   glm::dvec2 undistort(glm::dvec2 distorted) const;
+  // Normalised image coordinates to the ray's, and back, by the scene's lens convention.
+  glm::dvec2 through_lens(glm::dvec2 pixel) const;
+  glm::dvec2 onto_image(glm::dvec2 ray) const;
   Ray intrinsics_ray(glm::dvec2 undistorted) const;
 
   sdf::CameraSpec spec_;

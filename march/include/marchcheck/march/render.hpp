@@ -48,6 +48,7 @@ struct StageCost {
 
 struct RenderResult {
   Image color;   // linear RGB
+  sdf::OutputTransfer transfer = sdf::OutputTransfer::srgb;  // how its 8-bit files encode it (the scene's)
   Image depth;   // distance along the ray; +inf where nothing was hit
   Image normal;  // unit normal, zero where nothing was hit
   Image steps;   // primary march steps
@@ -94,7 +95,7 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs = {}, 
 // Dotted cost metrics: cost.stages.<stage>.evals/.seconds, cost.evals_per_pixel, cost.steps_max, cost.seconds.
 std::map<std::string, double> cost_metrics(const RenderResult& result);
 
-// Writes the colour image (PNG: 8-bit sRGB; EXR: float linear) and each AOV next to it
+// Writes the colour image (PNG: 8-bit, by the scene's output transfer; EXR: float linear) and each AOV next to it
 // (FILE.depth.exr, FILE.normal.png, FILE.steps.png heat map, FILE.evals.png heat map, FILE.id.png,
 // FILE.evals-STAGE.png heat map for each stage that spent evaluations, FILE.error.png heat map of error over
 // [0, kErrorHeatMapMax]), each through a temporary file renamed into place. Throws std::runtime_error naming the
@@ -105,8 +106,9 @@ void write_render(const RenderResult& result, const std::string& path, const std
 // The colour difference at the top of the error heat map (the report's and --aov error's).
 constexpr double kErrorHeatMapMax = 0.25;
 
-// Writes an image through a temporary file renamed into place; PNG/JPEG get 8-bit sRGB (or raw 8-bit for
-// data images: srgb = false), EXR/TIFF float.
+// Writes an image through a temporary file renamed into place; PNG/JPEG get 8-bit sRGB (or raw 8-bit: srgb =
+// false, for data images and scenes whose output transfer is linear), saying which in the file's metadata
+// (oiio:ColorSpace "sRGB" or "linear", and marchcheck:transfer "srgb" or "linear"); EXR/TIFF float.
 void write_image(const Image& image, const std::string& path, bool srgb = true);
 
 // The bytes write_image puts in an 8-bit file: sRGB-encoded (or clamped raw values: srgb = false), rounded.

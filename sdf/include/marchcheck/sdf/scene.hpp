@@ -65,6 +65,7 @@ struct Material {
   double density = 0;  // the Lee seed's per-material density; kept for scene files, not rendered
   TextureMapping texture = TextureMapping::none;
   double texture_scale = 1;
+  glm::dvec3 texture_origin{0};  // what a spherical texture's angles are measured about (a sphere's centre)
   double ramp_value = -1;  // >= 0: colour from the scene's ramp at this value
 };
 
@@ -75,23 +76,36 @@ struct Light {
   glm::dvec3 position{0, 5, 0};
   glm::dvec3 direction{0, -1, 0};  // direction the light travels, for directional lights
   glm::dvec3 color{1};
-  // Point lights move: position + motion_sin sin(motion_rate t) + motion_cos cos(motion_rate t).
+  // Point lights move: position + motion_sin sin(motion_rate t) + motion_cos cos(motion_rate t), axis by axis
+  // (fogerty's light swings along x at rate 1 and along y at rate 1.3).
   glm::dvec3 motion_sin{0}, motion_cos{0};
-  double motion_rate = 0;
+  glm::dvec3 motion_rate{0};
   ShadowMode shadow = ShadowMode::none;
   ShadowBias bias = ShadowBias::scaled;
   double bias_factor = 10;
   double darkening = 0;  // light kept in full shadow (Lee: 0.3)
+  // The specular highlight stays in shadow (the lee seed adds it whether or not the point is shadowed); off, a
+  // shadow takes it away.
+  bool specular_in_shadow = false;
   SoftShadow soft = SoftShadow::improved;
   double penumbra = 8;  // soft shadow k
 
   glm::dvec3 position_at(double time) const {
-    return position + motion_sin * std::sin(motion_rate * time) + motion_cos * std::cos(motion_rate * time);
+    return position + motion_sin * glm::sin(motion_rate * time) + motion_cos * glm::cos(motion_rate * time);
   }
 };
 
 enum class CameraModel { pinhole, intrinsics, frustum, orthographic };
 enum class CameraPose { look_at, orbit };
+// Which way the camera's axes run. right_handed: the look-at convention (right = forward x up, so a camera looking
+// along +z has world +x on the image's left). shader: the ray (x, y, 1) a shader builds, turned by a rotation: +x
+// image right, +y up, +z forward, a left-handed view (looking along +z, world +x is on the right). An orbit at yaw 0
+// sits on the side the view looks away from: +z for right_handed, -z for shader.
+enum class CameraAxes { right_handed, shader };
+// Where lens distortion sits between a pixel and its ray. opencv: the ray's image is the distorted point (a
+// calibrated camera: the ray goes through the undistorted pixel coordinates); shader: the ray goes through the
+// distorted point, xy <- (1 + k1 r^2 + k2 r^4) xy + tangential terms, with y up (a shader that widens its image).
+enum class LensConvention { opencv, shader };
 
 struct CameraSpec {
   CameraModel model = CameraModel::pinhole;
@@ -109,7 +123,15 @@ struct CameraSpec {
   bool fov_full_height = false;
   // The warped seed's defect: rays not normalised (direction (x, y, 1) as given).
   bool normalize_rays = true;
+  CameraAxes axes = CameraAxes::right_handed;
+  LensConvention lens = LensConvention::opencv;
 };
+
+// Where a camera stands and which way its axes point (unit vectors; right, up, forward as the image sees them).
+struct CameraFrame {
+  glm::dvec3 eye, right, up, forward;
+};
+CameraFrame camera_frame(const CameraSpec& spec);
 
 enum class Diffuse { clamped, floor, unclamped };
 enum class AmbientOcclusion { none, steps, samples };
@@ -145,6 +167,10 @@ struct SceneMesh : meshes::Mesh {
   int material = -1;
 };
 
+// How colour values become an 8-bit image's. srgb: the sRGB transfer curve (what a display expects of linear
+// light); linear: written as they are, as a shader writes them into an 8-bit framebuffer (the seeds do).
+enum class OutputTransfer { srgb, linear };
+
 struct Scene {
   std::string name;
   std::string description;
@@ -156,6 +182,7 @@ struct Scene {
   std::vector<Light> lights;
   std::vector<SceneMesh> meshes;
   Effects effects;
+  OutputTransfer output_transfer = OutputTransfer::srgb;
   MarchSettings march;
   std::map<std::string, double> limits;  // per-check limits this scene sets
   // What the scene means to draw when root is a faithful reproduction of a defect (for example the seed's
