@@ -54,7 +54,9 @@ void write_image(const Image& image, const std::string& path, bool srgb) {
   OIIO::ImageSpec spec(image.width, image.height, image.channels,
                        as_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   if (!as_float) {
-    spec.attribute("oiio:ColorSpace", srgb ? "sRGB" : "linear");
+    // Raw values are what a shader's framebuffer shows as they are: no gAMA 1.0 (oiio:ColorSpace "linear"), which
+    // would have a browser brighten them.
+    if (srgb) spec.attribute("oiio:ColorSpace", "sRGB");
     spec.attribute("marchcheck:transfer", srgb ? "srgb" : "linear");
   }
   bool ok = out->set_ioproxy(&memory) && out->open(path, spec);

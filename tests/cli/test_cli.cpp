@@ -61,6 +61,20 @@ TEST_F(Cli, RenderWritesTheImageAndTheStats) {
     EXPECT_NE(text.find(key), std::string::npos) << key;
 }
 
+// A seed scene's PNG holds what its shader writes: fogerty's grey 0.7 as 179 (sRGB would write 218), and says so in
+// its metadata (read with OpenImageIO's own iinfo, as a user would); a scene set to srgb says that. Broken variant:
+// write_render encoding every colour image as sRGB.
+TEST_F(Cli, RenderedPngsSayTheirTransferAndHoldIt) {
+  ASSERT_EQ(run("render fogerty --size 16x9 -o " + path("f.png")).status, 0);
+  const CommandRun linear = run_shell("iinfo -v --stats " + path("f.png"));
+  EXPECT_NE(linear.output.find("marchcheck:transfer: \"linear\""), std::string::npos) << linear.output;
+  EXPECT_NE(linear.output.find("Stats Max: 255 179 179 (of 255)"), std::string::npos) << linear.output;
+  ASSERT_EQ(run("render fogerty --size 16x9 --set output_transfer=srgb -o " + path("s.png")).status, 0);
+  const CommandRun srgb = run_shell("iinfo -v --stats " + path("s.png"));
+  EXPECT_NE(srgb.output.find("marchcheck:transfer: \"srgb\""), std::string::npos) << srgb.output;
+  EXPECT_NE(srgb.output.find("218 218 (of 255)"), std::string::npos) << srgb.output;
+}
+
 // DESIGN's --aov error: the heat map of the colour difference from a reference render, beside the image (it was
 // refused as an unknown AOV).
 TEST_F(Cli, RenderWritesTheErrorHeatMapAgainstTheReference) {

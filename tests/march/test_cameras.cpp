@@ -115,6 +115,34 @@ TEST(Cameras, ReprojectionCatchesACameraThatSkipsUndistortion) {
   EXPECT_GT(glm::length(*back - glm::dvec2(1200, 700)), 10.0);
 }
 
+// A shader's camera: at the origin looking along +z with a shader's axes and lens, the ray through pixel centre
+// (x, y) is normalize(distort(x_n, y_n), 1) with (x_n, y_n) = (x - cx, cy - y) / f (y up; cx, cy counted from the
+// top-left corner, as marchcheck's pixels) and the distortion SEED-SCENES writes (tangential terms in y up).
+// Projection (Newton's undistortion) brings each ray back to its pixel. Broken variants: p1 taken in the image's y-down sense; the look-at camera's mirror.
+TEST(Cameras, AShadersLensAndAxesAreItsFormula) {
+  CameraSpec s;
+  s.model = CameraModel::intrinsics;
+  s.position = {0, 0, 0};
+  s.target = {0, 0, 1};
+  s.axes = sdf::CameraAxes::shader;
+  s.lens = sdf::LensConvention::shader;
+  s.fx = s.fy = 500, s.cx = 300, s.cy = 220;
+  s.k1 = 0.1, s.k2 = 0.05, s.p1 = 0.01, s.p2 = -0.02;
+  const int w = 640, h = 480;
+  const Camera cam(s, w, h);
+  double worst = 0;
+  for (double y = 0.5; y < h; y += 47)
+    for (double x = 0.5; x < w; x += 61) {
+      const double u = (x - 300) / 500, v = (220 - y) / 500, r2 = u * u + v * v;
+      const double radial = 1 + s.k1 * r2 + s.k2 * r2 * r2;
+      const glm::dvec2 d(u * radial + 2 * s.p1 * u * v + s.p2 * (r2 + 2 * u * u),
+                         v * radial + 2 * s.p2 * u * v + s.p1 * (r2 + 2 * v * v));
+      worst = std::max(worst, glm::length(cam.ray(x, y).direction - glm::normalize(glm::dvec3(d, 1))));
+    }
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_LT(worst_reprojection(cam, w, h), 1e-6);
+}
+
 TEST(Cameras, PointsBehindTheCameraDoNotProject) {
   const Camera cam(spec(CameraModel::pinhole, CameraPose::look_at), 640, 480);
   EXPECT_FALSE(cam.project(cam.eye() - cam.forward()).has_value());

@@ -108,7 +108,7 @@ constexpr double kErrorHeatMapMax = 0.25;
 
 // Writes an image through a temporary file renamed into place; PNG/JPEG get 8-bit sRGB (or raw 8-bit: srgb =
 // false, for data images and scenes whose output transfer is linear), saying which in the file's metadata
-// (oiio:ColorSpace "sRGB" or "linear", and marchcheck:transfer "srgb" or "linear"); EXR/TIFF float.
+// (marchcheck:transfer "srgb" or "linear"; sRGB images also carry PNG's sRGB chunk); EXR/TIFF float.
 void write_image(const Image& image, const std::string& path, bool srgb = true);
 
 // The bytes write_image puts in an 8-bit file: sRGB-encoded (or clamped raw values: srgb = false), rounded.
