@@ -535,11 +535,7 @@ class TileRenderer {
     lap(kMarch);
     stage(kMarch, [&](PixelState& p, int, int) {
       p.on_mesh = p.mesh.hit && p.record.outcome != Outcome::hit;
-      if (s_.miss_as_zero && p.record.outcome != Outcome::hit) {
-        // The seed's encoding: a miss is distance 0, which its consumer reads as a hit at the ray origin.
-        p.record.outcome = Outcome::hit;
-        p.record.t = 0;
-      }
+      p.record = as_read(p.record, s_);
       p.hit = p.record.outcome == Outcome::hit;
       if (p.on_mesh) take_mesh(p);
       surface_found(p);

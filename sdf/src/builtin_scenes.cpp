@@ -315,11 +315,14 @@ Scene fogerty_defect(const std::string& which) {
   s.march.max_steps = 32;
   s.march.eps_mode = EpsMode::absolute;
   if (which == "steps") {
-    s.description = "fogerty with the seed's 32 steps and absolute eps 1e-4: silhouette rays end undecided";
+    s.description = "fogerty with the seed's 32 steps and absolute eps 1e-4: silhouette rays end undecided, and the "
+                    "seed shades them as hits where they stopped (a black rim)";
+    s.march.reading = RecordReading::seed_distance;
   } else if (which == "miss0") {
-    s.description = "fogerty with the seed's miss encoded as distance 0: misses read as hits at the ray origin";
+    s.description = "fogerty read as the seed reads its march: a distance alone, 0 for a miss, which a hit at the ray "
+                    "origin also returns";
     s.march.max_steps = 256;
-    s.march.miss_as_zero = true;
+    s.march.reading = RecordReading::seed_distance;
   } else {
     s.description = "fogerty with the ray direction passed where the camera position belongs: wrong specular and "
                     "silhouette";

@@ -49,6 +49,8 @@ constexpr EnumName<CameraModel> kCameraModels[] = {{CameraModel::pinhole, "pinho
 constexpr EnumName<CameraAxes> kCameraAxes[] = {{CameraAxes::right_handed, "right_handed"},
                                                 {CameraAxes::shader, "shader"}};
 constexpr EnumName<LensConvention> kLenses[] = {{LensConvention::opencv, "opencv"}, {LensConvention::shader, "shader"}};
+constexpr EnumName<RecordReading> kReadings[] = {{RecordReading::outcome, "outcome"},
+                                                  {RecordReading::seed_distance, "seed_distance"}};
 constexpr EnumName<OutputTransfer> kTransfers[] = {{OutputTransfer::srgb, "srgb"}, {OutputTransfer::linear, "linear"}};
 constexpr EnumName<CameraPose> kCameraPoses[] = {{CameraPose::look_at, "look_at"}, {CameraPose::orbit, "orbit"}};
 constexpr EnumName<LightType> kLightTypes[] = {{LightType::point, "point"}, {LightType::directional, "directional"}};
@@ -249,7 +251,7 @@ const std::vector<Field<Scene>>& settings() {
       number_field<Scene>("normal_eps", MEMBER(Scene, march.normal_eps), 1e-12, 1),
       bool_field<Scene>("normal_eps_scaled", MEMBER(Scene, march.normal_eps_scaled)),
       {"precision", precision_of, set_precision},
-      bool_field<Scene>("miss_as_zero", MEMBER(Scene, march.miss_as_zero)),
+      enum_field<Scene>("reading", kReadings, MEMBER(Scene, march.reading)),
       // Overrides for every light at once.
       {"shadow", nullptr,
        [](Scene& s, const json& v, const std::string& w) {

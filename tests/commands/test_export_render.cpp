@@ -31,7 +31,7 @@ float to_srgb(float linear) {
 }
 
 // The fractions of pixels where the export rendered on the driver and marchcheck's render differ by more than
-// `levels` (in sRGB, 0 to 1), one for each.
+// `levels` (0 to 1 as written: sRGB, or the values as they are), one for each.
 std::vector<double> pixels_over(const sdf::Scene& scene, const std::vector<float>& levels) {
   const int w = scene.width, h = scene.height;
   // The bound: llvmpipe compiles mesh-icosphere's export in about 130 s without its shader cache (the mesh walk is
@@ -47,7 +47,8 @@ std::vector<double> pixels_over(const sdf::Scene& scene, const std::vector<float
       float largest = 0;
       for (int k = 0; k < 3; ++k) {
         EXPECT_TRUE(std::isfinite(d[k])) << scene.name << " pixel " << x << ", " << y;
-        largest = std::max(largest, std::abs(to_srgb(c[k]) - d[k]));
+        const float written = scene.output_transfer == sdf::OutputTransfer::srgb ? to_srgb(c[k]) : std::clamp(c[k], 0.0f, 1.0f);
+        largest = std::max(largest, std::abs(written - d[k]));
       }
       for (size_t i = 0; i < levels.size(); ++i) over[i] += largest > levels[i];
     }

@@ -247,6 +247,27 @@ TEST(SeedScenes, LeeSphereTextureTurnsAboutTheSpheresCentre) {
   EXPECT_LT(worst, 0.02);
 }
 
+// fogerty's 32 steps leave the rays that graze the sphere unfinished, and the seed shades any t > 0: they are drawn
+// where they stopped, in the black silhouette, a rim about 2 px wide around the disc (118 px across at 640x360 in
+// the original, 110 where they were drawn as background). Across the middle row the defect's disc is 118 px wide
+// against the fixed scene's 114, and what it adds is black. Broken variant: unfinished rays read as misses.
+TEST(SeedScenes, FogertyStepsDefectHasABlackRim) {
+  const auto disc = [](const std::string& name) {
+    sdf::Scene s = sdf::builtin_scene(name);
+    s.width = 640, s.height = 360;
+    const RenderResult r = render(s);
+    std::vector<std::array<float, 3>> row;
+    for (int x = 0; x < s.width; ++x)
+      if (pixel(r.color, x, 180) != std::array<float, 3>{0.7f, 0.7f, 0.7f}) row.push_back(pixel(r.color, x, 180));
+    return row;
+  };
+  const auto fixed = disc("fogerty"), defect = disc("fogerty-defect-steps");
+  EXPECT_EQ(defect.size(), 118u);
+  EXPECT_GE(defect.size(), fixed.size() + 2);
+  const auto black = [](const std::array<float, 3>& c) { return c[0] == 0 && c[1] == 0 && c[2] == 0; };
+  EXPECT_TRUE(black(defect.front()) && black(defect.back()));
+}
+
 // crum-torus's listing draws no glow: every pixel that is not a hit is exactly black. Broken variant: the glow on.
 TEST(SeedScenes, CrumTorusMissesAreExactlyBlack) {
   sdf::Scene s = sdf::builtin_scene("crum-torus");

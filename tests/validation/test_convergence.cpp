@@ -50,8 +50,9 @@ TEST(Convergence, UnnormalisedRaysAreJudgedAlongTheirLength) {
 // The studies march as validate does (drift fixed here: they marched in float and read misses as misses,
 // whatever the scene declared). A double-precision march reaches hit_eps 1e-9 on lee-flat's ground and ball,
 // which float cannot (its spacing at t ~ 5 is 5e-7, so rays run out of steps): every ray decided, and hits
-// within 1e-6 (hit_eps / cos reaches 5.5e-8 on the ground rays nearest the horizon). And a scene whose consumer reads a miss as distance 0 (fogerty's) has every
-// ray decided at any step count, as validate counts them.
+// within 1e-6 (hit_eps / cos reaches 5.5e-8 on the ground rays nearest the horizon). And a scene whose consumer reads
+// the seed's distance alone (fogerty's: t > 0 is a hit) has every ray decided at any step count, as validate counts
+// them.
 TEST(Convergence, StudiesMarchAtTheScenesPrecisionAndReadMissesAsItsConsumerDoes) {
   sdf::Scene s = sdf::builtin_scene("lee-flat");
   s.march.precision = sdf::Precision::float64;
@@ -60,8 +61,8 @@ TEST(Convergence, StudiesMarchAtTheScenesPrecisionAndReadMissesAsItsConsumerDoes
   EXPECT_EQ(precise[0].decided, 1.0);
   EXPECT_LT(precise[0].t_err_max, 1e-6);
   sdf::Scene zero = sdf::builtin_scene("lee-flat");
-  zero.march.miss_as_zero = true;
-  EXPECT_EQ(steps_study(zero, {4})[0].decided, 1.0) << "a miss read as distance 0 is a hit to its consumer";
+  zero.march.reading = sdf::RecordReading::seed_distance;
+  EXPECT_EQ(steps_study(zero, {4})[0].decided, 1.0) << "the seed's consumer shades an unfinished ray as a hit";
 }
 
 TEST(Convergence, GrazingRaysFollowTheSquareRootLaw) {

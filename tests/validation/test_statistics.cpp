@@ -51,7 +51,7 @@ TEST(DefaultLimits, AreTheStatedValues) {
       {"hit.overshoot", 0},          {"hit.undecided", 0.002},
       {"hit.surface_dist_over_eps", 1.05}, {"normal.angle_p99_deg", 2},
       {"shadow.false_shadow", 0.002}, {"shadow.false_lit", 0.002},
-      {"march.over_max_steps", 0},   {"normal.length_err_max", 1e-4},
+      {"march.over_max_steps", 0},   {"normal.length_err_max", 1e-4}, {"march.sentinel_t", 0},
       {"sdf.lipschitz_over_declared", 1.001}, {"march.safe_step_ratio", 1.001},
       {"sdf.overestimate_max", 1e-6}, {"sdf.overestimate_marched_max", 1e-6}, {"image.pixels_over", 0.02},
       {"camera.fov_err_deg", 1e-6},  {"camera.ray_norm_err", 1e-6},

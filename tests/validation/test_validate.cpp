@@ -27,8 +27,8 @@ const std::map<std::string, std::string> kDefectTable = {
     {"crum-smooth-defect-intersect", "hit.false_hit"},
     {"crum-smooth-defect-subtract", "hit.false_hit"},
     {"crum-lattice-defect-lipschitz", "hit.overshoot"},
-    {"fogerty-defect-steps", "hit.undecided"},
-    {"fogerty-defect-miss0", "hit.false_hit"},
+    {"fogerty-defect-steps", "hit.false_hit"},
+    {"fogerty-defect-miss0", "march.sentinel_t"},
     {"fogerty-defect-camera", "image.pixels_over"},
     {"warped-defect-unnormalised", "camera.ray_norm_err"},
     {"warped-defect-lipschitz", "hit.overshoot"},
@@ -100,10 +100,9 @@ TEST(BrokenVariants, EachRemainingCheckCanFail) {
          s.march.normal_eps = 0.3;
        },
        "normal.angle_p99_deg"},
-      // A bound's hits may lie farther than eps from the surface inside the shell |f| < eps; a miss read as a
-      // hit at t = 0 is far outside that shell and still counts.
-      {"misses encoded as distance 0 on a bound field", "crum-lattice",
-       [](sdf::Scene& s) { s.march.miss_as_zero = true; }, "hit.false_hit"},
+      // A march read through the seed's distance alone, on a bound field: its misses reach the consumer as 0.
+      {"misses returned as distance 0 on a bound field", "crum-lattice",
+       [](sdf::Scene& s) { s.march.reading = sdf::RecordReading::seed_distance; }, "march.sentinel_t"},
       {"a fixed normal epsilon of 1e-4 at float hits out to t = 480", "crum-lattice",
        [](sdf::Scene& s) {
          s.march.normal_eps_scaled = false;

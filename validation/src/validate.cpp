@@ -45,6 +45,9 @@ const std::vector<DefaultLimit>& default_limits() {
       {"shadow.false_shadow", 0.002, "fraction of lit reference points the marched shadow darkens (acne)"},
       {"shadow.false_lit", 0.002, "fraction of shadowed reference points the marched shadow lights (leaks)"},
       {"march.over_max_steps", 0, "rays whose march evaluated the field more often than max_steps allows"},
+      {"march.sentinel_t", 0,
+       "fraction of rays whose outcome reaches the consumer only as a distance (a miss as 0, which a hit at the ray "
+       "origin also returns; an unfinished ray as where it stopped)"},
       {"normal.length_err_max", 1e-4, "largest | |n| - 1 | of the normals at hits (float rounding gives ~1e-7)"},
       {"sdf.lipschitz_over_declared", 1.001, "measured Lipschitz constant over the declared one"},
       {"march.safe_step_ratio", 1.001, "measured Lipschitz constant times the marcher's step per unit of f"},
@@ -95,11 +98,10 @@ Subject subject_in(const sdf::Scene& scene) {
   s.marched_field = [tape](dvec3 p) { return static_cast<double>(sdf::evaluate(*tape, V(p))); };
   s.march = [tape, ctx, field, settings](dvec3 o, dvec3 d) {
     const auto r = march::march<T>(field, V(o), V(d), settings, *ctx);
-    MarchedRay m{r.outcome, static_cast<double>(r.t), r.evals, std::nullopt};
-    if (settings.miss_as_zero && r.outcome != Outcome::hit) {
-      m.outcome = Outcome::hit;  // how the seed's consumer reads a miss encoded as distance 0
-      m.t = 0;
-    }
+    const auto read = march::as_read(r, settings);  // as the seed's consumer reads it
+    MarchedRay m{read.outcome, static_cast<double>(read.t), r.evals, std::nullopt};
+    // Its outcome known only from a sentinel distance: a miss returned as 0, an unfinished ray as where it stopped.
+    m.sentinel = settings.reading == sdf::RecordReading::seed_distance && r.outcome != Outcome::hit;
     return m;
   };
   s.normal = [tape, field, settings](dvec3 p, double t) {
@@ -256,6 +258,7 @@ struct NormalJudge {
 // undecided or over the step limit, and how far agreed hits lie from the surface.
 struct HitJudge {
   int rays = 0, false_hit = 0, false_miss = 0, overshoot = 0, undecided = 0, ambiguous = 0, over_steps = 0;
+  int sentinel = 0;
   int uncertified = 0, numerical_disagree = 0;  // the certified reference's undecidable rays; the cross-check's
   double ray_norm_err = 0, surface_over_eps = 0, surface_dist_max = 0, evals = 0;
   std::vector<double> t_err;
@@ -269,6 +272,10 @@ struct HitJudge {
     if (r.rec.evals > j.scene.march.max_steps) {
       ++over_steps;
       j.offenders.first("march.over_max_steps", text);
+    }
+    if (r.rec.sentinel) {
+      ++sentinel;
+      j.offenders.first("march.sentinel_t", text);
     }
     cross_check(j, r);
     if (r.rh.undecided) {
@@ -400,6 +407,7 @@ struct HitJudge {
     m["hit.surface_dist_max"] = surface_dist_max;
     if (j.subject.exact_outside) m["hit.surface_dist_over_eps"] = surface_over_eps;
     m["march.over_max_steps"] = over_steps;
+    m["march.sentinel_t"] = rays > 0 ? static_cast<double>(sentinel) / rays : 0;
     m["camera.ray_norm_err"] = ray_norm_err;
     m["cost.march_evals_per_ray"] = rays > 0 ? evals / rays : 0;
     if (j.ref.kind() == ReferenceKind::certified) {

@@ -1013,7 +1013,8 @@ std::string bounce_code(const Scene& s) {
 }
 
 // mainImage: the camera's ray, the march (stopped at a nearer mesh), the surface lit, then the renderer's
-// finish: glow on misses, step-count occlusion, no negative colour, fog; sRGB out, as marchcheck's PNGs.
+// finish: glow on misses, step-count occlusion, no negative colour, fog; out by the scene's transfer (sRGB, or the
+// values as they are), as marchcheck's PNGs.
 std::string main_image_code(const Scene& s) {
   const Effects& e = s.effects;
   std::ostringstream out;
@@ -1024,8 +1025,9 @@ std::string main_image_code(const Scene& s) {
     out << "  March r = march(ro, rd, MAX_DIST, 1.0);\n";
   else
     out << "  MeshHit mesh = meshHit(ro, rd, MAX_DIST);\n  March r = march(ro, rd, mesh.t, 1.0);\n";
-  // The seed defect the renderer reproduces: a miss read as distance 0 (a hit at the ray's origin).
-  if (s.march.miss_as_zero) out << "  if (r.outcome != 0) { r.outcome = 0; r.t = 0.0; }\n";
+  // The fogerty seed's reading (march::as_read): the distance alone, 0 past max_dist, shaded where t > 0.
+  if (s.march.reading == RecordReading::seed_distance)
+    out << "  if (r.outcome == 1) r.t = 0.0;\n  r.outcome = (r.outcome == 0 || r.outcome == 2) && r.t > 0.0 ? 0 : 1;\n";
   const bool meshes = !s.meshes.empty();
   out << "  vec3 col = " << vec3_literal(e.background) << ";\n"
       << "  bool onMesh = " << (meshes ? "mesh.hit && r.outcome != 0" : "false") << ";\n"
@@ -1046,7 +1048,8 @@ std::string main_image_code(const Scene& s) {
   if (e.glow > 0)
     out << " else {\n    float g = clamp(1.0 - r.minAbsF / " << literal(float(e.glow_width)) << ", 0.0, 1.0);\n"
         << "    col += " << vec3_literal(e.glow_color) << " * (" << literal(float(e.glow)) << " * g * g);\n  }";
-  out << "\n  fragColor = vec4(srgb(col), 1.0);\n}\n";
+  out << "\n  fragColor = vec4(" << (s.output_transfer == OutputTransfer::srgb ? "srgb(col)" : "clamp(col, 0.0, 1.0)")
+      << ", 1.0);\n}\n";
   return out.str();
 }
 

@@ -37,6 +37,17 @@ struct RayRecord {
   bool decided() const { return march::decided(outcome); }
 };
 
+// The record as the scene's consumer reads it (MarchSettings::reading): as it is, or through the fogerty seed's
+// distance alone, shaded where t > 0 (a miss returns 0).
+template <class T>
+RayRecord<T> as_read(RayRecord<T> r, const MarchSettings& s) {
+  if (s.reading != sdf::RecordReading::seed_distance) return r;
+  if (r.outcome == Outcome::miss_far) r.t = 0;
+  const bool shaded = (r.outcome == Outcome::hit || r.outcome == Outcome::miss_steps) && r.t > 0;
+  r.outcome = shaded ? Outcome::hit : Outcome::miss_far;
+  return r;
+}
+
 // What a march needs beyond the settings: the field's declared Lipschitz bound (for the scaled marcher) and the
 // camera's pixel footprint at distance t, footprint_at_0 + footprint_slope * t (for eps_mode pixel).
 struct MarchContext {

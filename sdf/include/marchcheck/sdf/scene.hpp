@@ -26,6 +26,10 @@ enum class ShadowMode { none, hard, soft };
 enum class ShadowBias { seed_offset, seed_ignore, scaled };
 enum class SoftShadow { classic, improved };
 enum class Precision { float32, float64 };  // float or double arithmetic in the march
+// How the scene's consumer reads a march. outcome: the record's own outcome. seed_distance: the fogerty seed's,
+// which gets a distance alone (0 past max_dist, wherever the march stopped otherwise) and shades any t > 0: a ray
+// that ran out of steps is drawn as a hit where it stopped, and a miss cannot be told from a hit at the ray origin.
+enum class RecordReading { outcome, seed_distance };
 
 // The over-relaxation factors a relaxed march takes: [1, 2). At 2 the relaxed step's fallback test (two
 // unbounding spheres that must overlap) no longer holds. Scene files and --set refuse others; a march given one
@@ -46,8 +50,7 @@ struct MarchSettings {
   double normal_eps = 1e-3;
   bool normal_eps_scaled = false;  // normal_eps * t instead of an absolute epsilon
   Precision precision = Precision::float32;
-  // How the renderer reads the record, as a seed consumer would: a miss reported as distance 0 (fogerty).
-  bool miss_as_zero = false;
+  RecordReading reading = RecordReading::outcome;
 };
 
 enum class SpecularModel { none, phong, blinn };

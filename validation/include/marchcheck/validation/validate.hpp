@@ -77,6 +77,9 @@ struct MarchedRay {
   double t = 0;   // where the march ended, in units of |direction|
   int evals = 0;  // field evaluations it made
   std::optional<glm::dvec3> normal;  // at a hit: the marcher's own normal, when it computes one
+  // The consumer learns the outcome from the distance alone (a miss as 0, which a hit at the ray origin also
+  // returns; an unfinished ray as the t it stopped at): DESIGN's "no sentinel values".
+  bool sentinel = false;
   bool decided() const { return march::decided(outcome); }
 
   static MarchedRay hit(double t, std::optional<glm::dvec3> normal = std::nullopt) {
