@@ -2,6 +2,7 @@
 
 #include "marchcheck/files/atomic_file.hpp"
 #include "marchcheck/march/render.hpp"
+#include "marchcheck/march/texture.hpp"
 #include "marchcheck/reports/compare.hpp"
 #include "marchcheck/reports/results_io.hpp"
 #include "marchcheck/reports/report.hpp"
@@ -77,6 +78,7 @@ sdf::Scene load_scene(const std::string& name_or_path, const std::vector<std::st
       name_or_path.ends_with(".glsl") ? sdf::glsl_scene(name_or_path) : sdf::resolve_scene(name_or_path);
   apply_sets(scene, sets);
   sdf::compile(scene.root, scene.time);
+  march::check_texture_files(scene);  // an unreadable image is bad input, said before any work
   return scene;
 }
 

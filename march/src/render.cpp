@@ -150,12 +150,12 @@ glm::dvec3 material_color(const Context& ctx, int material, glm::dvec3 p, glm::d
   // Looked up just below the surface, as the seed does (p - n * SURF_DIST).
   const glm::dvec3 q = p - n * scene.march.hit_eps;
   if (m.texture == sdf::TextureMapping::planar)
-    return m.color * sample_texture(soil_texture_path(), q.x * m.texture_scale, q.z * m.texture_scale);
+    return m.color * sample_texture(texture_path(m), q.x * m.texture_scale, q.z * m.texture_scale);
   // The seed's: polar angle from +y, then longitude, about the texture's origin (the sphere's centre).
   const glm::dvec3 r = q - m.texture_origin;
   const double u = glm::fract(std::atan2(std::sqrt(r.x * r.x + r.z * r.z), r.y) / std::numbers::pi),
                v = glm::fract(std::atan2(r.z, r.x) / (2 * std::numbers::pi));
-  return m.color * sample_texture(soil_texture_path(), u * m.texture_scale, v * m.texture_scale);
+  return m.color * sample_texture(texture_path(m), u * m.texture_scale, v * m.texture_scale);
 }
 
 // Surface points to light together (structure of arrays), up to N: position, unit normal, eye, albedo, ambient
@@ -805,7 +805,10 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const
               nullptr, oracle, {}, shade};
   ctx.march = march_context(ctx.camera, sdf::derive_info(scene.root, scene.time).lipschitz);
   for (const auto& light : scene.lights) ctx.light_positions.push_back(light.position_at(scene.time));
-  if (ctx.pipeline.textures) soil_texture_path();
+  if (ctx.pipeline.textures) {
+    soil_texture_path();  // made once, before the tiles look it up in parallel
+    check_texture_files(scene);
+  }
   if (!scene.meshes.empty()) ctx.meshes = std::make_unique<MeshOccluder>(scene.meshes);
 
   RenderResult out;

@@ -3,6 +3,7 @@
 #include "marchcheck/march/render.hpp"
 #include "marchcheck/sdf/noise.hpp"
 
+#include <OpenImageIO/imageio.h>
 #include <OpenImageIO/texture.h>
 
 #include <filesystem>
@@ -44,6 +45,7 @@ OIIO::TextureSystem* texture_system() {
   static OIIO::TextureSystem* ts = [] {
     auto* system = OIIO::TextureSystem::create(true);
     system->attribute("automip", 1);
+    system->attribute("gray_to_rgb", 1);
     return system;
   }();
   return ts;
@@ -61,6 +63,20 @@ const std::string& soil_texture_path() {
     if (!std::filesystem::exists(path)) write_image(make_soil(512), path);
   });
   return path;
+}
+
+const std::string& texture_path(const sdf::Material& material) {
+  return material.texture_file.empty() ? soil_texture_path() : material.texture_file;
+}
+
+void check_texture_files(const sdf::Scene& scene) {
+  for (const sdf::Material& m : scene.materials) {
+    if (m.texture_file.empty()) continue;
+    const auto in = OIIO::ImageInput::open(m.texture_file);
+    if (!in)
+      throw sdf::SceneError("material '" + m.name + "': texture_file '" + m.texture_file +
+                            "': not an image OpenImageIO can read (" + OIIO::geterror() + ")");
+  }
 }
 
 glm::dvec3 sample_texture(const std::string& path, double s, double t) {

@@ -1,6 +1,7 @@
 #include "marchcheck/sdf/builtin_scenes.hpp"
 
 #include "marchcheck/sdf/glsl_field.hpp"
+#include "marchcheck/sdf/noise.hpp"
 #include "marchcheck/sdf/scene_file.hpp"
 
 #include "marchcheck/meshes/procedural.hpp"
@@ -70,9 +71,12 @@ void shader_view(Scene& s) {
 // orbits the origin at distance 6, pitch 0.3 rad, eye on -z at yaw 0 (a shader's axes), f = 600 px, the lens's
 // k1 = 0.3 applied forward (the ray through the distorted point); a point light circling at (6 sin 0.3t, 5,
 // 6 cos 0.3t); hard shadows darkening diffuse to 0.3; Phong specular added in shadow too.
-Scene lee(bool terrain) {
+// The terrain's lattice hash: splitmix64 (the fix: the same function in every precision) unless the seed's is asked.
+Scene lee(bool terrain, NoiseHash hash = NoiseHash::splitmix) {
   Scene s = base(terrain ? "lee-terrain" : "lee-flat",
-                 terrain ? "Sphere over a value-noise height-field terrain (SDF y + height(x,z)), marched at f/L"
+                 terrain ? "Sphere over a value-noise height-field terrain (SDF y + height(x,z)), marched at f/L; its "
+                           "lattice hash is splitmix64, the same function in every precision (the fix for the seed's "
+                           "sin hash)"
                          : "Sphere over a ground plane, orbit camera with lens distortion, hard shadows, specular");
   const int ball = add_material(s, "sphere", {0.5, 0.7, 1.0});
   const int ground = add_material(s, "ground", {0.57, 0.42, 0.3});
@@ -83,7 +87,9 @@ Scene lee(bool terrain) {
   s.materials[1].specular_strength = 0.05;
   s.materials[1].density = 10;
   for (auto& m : s.materials) m.shininess = 10;
-  Node floor = terrain ? make(Op::heightfield, {{"octaves", {-0.5, 0.5, -0.05, 2, -0.012, 4}}}, {}, ground)
+  Node floor = terrain ? make(Op::heightfield,
+                              {{"hash", {static_cast<double>(hash)}}, {"octaves", {-0.5, 0.5, -0.05, 2, -0.012, 4}}},
+                              {}, ground)
                        : plane({0, 1, 0}, 0, ground);
   s.root = unite({sphere(1, ball), translate({0, -1.2, 0}, std::move(floor))});
   s.camera.model = CameraModel::intrinsics;
@@ -166,6 +172,18 @@ Scene lee_terrain_defect_lipschitz() {
   s.description = "lee-terrain marched by plain sphere tracing although the height field's Lipschitz bound is 1.31";
   s.defects = {"lipschitz"};
   s.march.marcher = Marcher::sphere;
+  return s;
+}
+
+// The seed's corner hash, fract(sin(dot(c, (12.9898, 54.233))) * 43758.5453123), in the march's float as its shader
+// computes it: in float the terrain is another one than in double (the references'), the more so the farther a
+// cell lies from the origin.
+Scene lee_terrain_defect_hash() {
+  Scene s = lee(true, NoiseHash::seed_sin);
+  s.name = "lee-terrain-defect-hash";
+  s.description = "lee-terrain with the seed's sin hash computed in float: the terrain moves with precision and with "
+                  "the distance from the origin";
+  s.defects = {"hash"};
   return s;
 }
 
@@ -513,6 +531,7 @@ const std::vector<std::pair<std::string, std::function<Scene()>>>& registry() {
       // Defect variants: each reproduces one seed defect faithfully; `scenes` lists them as such.
       {"lee-flat-defect-bias", lee_flat_defect_bias},
       {"lee-terrain-defect-lipschitz", lee_terrain_defect_lipschitz},
+      {"lee-terrain-defect-hash", lee_terrain_defect_hash},
       {"crum-torus-defect-fov", crum_torus_defect_fov},
       {"crum-smooth-defect-intersect", [] { return crum_csg_defect(true); }},
       {"crum-smooth-defect-subtract", [] { return crum_csg_defect(false); }},

@@ -448,8 +448,9 @@ vec3<I> p_repeat_limited(const Args<I>& k, vec3<I> p) {
 }
 
 // Value noise, cell by cell over at most 16 cells: the smoothstep is monotone on a cell, so its range is its ends'.
+// The lattice's values are the double ones: what the reference's field is.
 template <class I>
-I value_noise(I x, I z) {
+I value_noise(I x, I z, NoiseHash hash) {
   const Interval X = value_of(x), Z = value_of(z);
   const double x0 = std::floor(X.lo), x1 = std::floor(X.hi), z0 = std::floor(Z.lo), z1 = std::floor(Z.hi);
   if (!(std::abs(x0) < 4e18 && std::abs(x1) < 4e18 && std::abs(z0) < 4e18 && std::abs(z1) < 4e18) ||
@@ -478,8 +479,8 @@ I value_noise(I x, I z) {
     for (double iz = z0; iz <= z1; ++iz) {
       const I ux = smoothstep(within(x, ix, ix + 1) - I(ix)), uz = smoothstep(within(z, iz, iz + 1) - I(iz));
       const auto cx = static_cast<std::int64_t>(ix), cz = static_cast<std::int64_t>(iz);
-      const I a(lattice_value(cx, cz)), b(lattice_value(cx + 1, cz));
-      const I c(lattice_value(cx, cz + 1)), d(lattice_value(cx + 1, cz + 1));
+      const I a(lattice<double>(hash, cx, cz)), b(lattice<double>(hash, cx + 1, cz));
+      const I c(lattice<double>(hash, cx, cz + 1)), d(lattice<double>(hash, cx + 1, cz + 1));
       const I v = mix(mix(a, b, ux), mix(c, d, ux), uz);
       out = have ? hull(out, v) : v;
       have = true;
@@ -569,12 +570,12 @@ MARCHCHECK_INTERVAL_RULE(p_repeat_limited, vec3)
 namespace marchcheck::sdf {
 
 template <>
-Interval value_noise<Interval>(Interval x, Interval z) {
-  return kernels::interval_rules::value_noise(x, z);
+Interval value_noise<Interval>(Interval x, Interval z, NoiseHash hash) {
+  return kernels::interval_rules::value_noise(x, z, hash);
 }
 template <>
-DualInterval value_noise<DualInterval>(DualInterval x, DualInterval z) {
-  return kernels::interval_rules::value_noise(x, z);
+DualInterval value_noise<DualInterval>(DualInterval x, DualInterval z, NoiseHash hash) {
+  return kernels::interval_rules::value_noise(x, z, hash);
 }
 
 namespace {

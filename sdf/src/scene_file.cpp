@@ -204,6 +204,11 @@ const std::vector<Field<Material>>& material_fields() {
       enum_field<Material>("texture", kTextures, MEMBER(Material, texture)),
       number_field<Material>("texture_scale", MEMBER(Material, texture_scale), 1e-9, 1e9),
       vec3_field<Material>("texture_origin", MEMBER(Material, texture_origin)),
+      {"texture_file", [](const Material& m) { return json(m.texture_file); },
+       [](Material& m, const json& v, const std::string& w) {
+         if (!v.is_string()) fail(w, "expected a path");
+         m.texture_file = v.get<std::string>();
+       }},
       number_field<Material>("ramp_value", MEMBER(Material, ramp_value), -1, 1),
   };
   return table;
@@ -437,12 +442,16 @@ json node_to_json(const Node& n, const Scene& scene) {
   return j;
 }
 
-// A mesh file named relative to the scene file is found beside it.
-std::string resolve_mesh_source(const std::string& source, const std::string& scene_path) {
-  const std::filesystem::path p(source);
-  if (source.starts_with("procedural:") || p.is_absolute()) return source;
+// A file named relative to the scene file (a mesh, a GLSL source, a texture) is found beside it.
+std::string beside_scene_file(const std::string& file, const std::string& scene_path) {
+  const std::filesystem::path p(file);
+  if (p.is_absolute()) return file;
   // absolute() first: a bare "scene.json" has no parent path, and absolute("") is an error.
   return (std::filesystem::absolute(scene_path).parent_path() / p).lexically_normal().string();
+}
+
+std::string resolve_mesh_source(const std::string& source, const std::string& scene_path) {
+  return source.starts_with("procedural:") ? source : beside_scene_file(source, scene_path);
 }
 
 // A glsl node's field: its source file (beside the scene file) or inline code, compiled here.
@@ -456,7 +465,7 @@ std::shared_ptr<const GlslField> glsl_from_json(const json& j, const std::string
   std::string text, file;
   if (j.contains("source")) {
     if (!j["source"].is_string() || j["source"].get<std::string>().empty()) fail(path + "/source", "expected a file path");
-    spec.source = resolve_mesh_source(j["source"].get<std::string>(), scene_path);
+    spec.source = beside_scene_file(j["source"].get<std::string>(), scene_path);
     const std::optional<std::string> read = read_text_file(spec.source);
     if (!read) fail(path + "/source", "cannot read '" + spec.source + "'");
     text = *read;
@@ -856,6 +865,13 @@ Scene scene_from_json(std::string_view text, const std::string& source, const Me
         Material mat;
         read_fields(mat, j["materials"][i], material_fields(), where);
         if (mat.name.empty()) fail(where, "needs a \"name\"");
+        if (!mat.texture_file.empty()) {
+          if (mat.texture == TextureMapping::none)
+            fail(where + "/texture_file", "an image needs a \"texture\" mapping (planar or spherical)");
+          mat.texture_file = beside_scene_file(mat.texture_file, source);
+          if (!std::filesystem::is_regular_file(mat.texture_file))
+            fail(where + "/texture_file", "'" + mat.texture_file + "': no such file");
+        }
         if (find_material(scene, mat.name) >= 0) fail(where + "/name", "duplicate material '" + mat.name + "'");
         scene.materials.push_back(mat);
       }

@@ -75,6 +75,23 @@ TEST_F(Cli, RenderedPngsSayTheirTransferAndHoldIt) {
   EXPECT_NE(srgb.output.find("218 218 (of 255)"), std::string::npos) << srgb.output;
 }
 
+// A texture_file OpenImageIO cannot read is bad input: render exits 2 naming the material and the file, and writes
+// nothing; the GLSL export, which cannot carry an image, refuses such a scene. Broken variant: no check (OIIO's
+// texture lookup returns black for an unreadable file, in silence).
+TEST_F(Cli, AnUnreadableTextureFileIsBadInput) {
+  std::ofstream(path("soil.png")) << "not a png";
+  std::ofstream(path("t.json")) << R"({"sdf": {"type": "plane", "normal": [0, 1, 0], "offset": 0, "material": "g"},
+    "materials": [{"name": "g", "texture": "planar", "texture_file": "soil.png"}]})";
+  const CommandRun r = run("render " + path("t.json") + " --size 16x9 -o " + path("t.png"));
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("material 'g': texture_file '" + path("soil.png") + "': not an image"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(path("t.png")));
+  const CommandRun exported = run("scenes --export-glsl " + path("t.json"));
+  EXPECT_EQ(exported.status, 2) << exported.output;
+  EXPECT_NE(exported.output.find("texture_file"), std::string::npos) << exported.output;
+}
+
 // DESIGN's --aov error: the heat map of the colour difference from a reference render, beside the image (it was
 // refused as an unknown AOV).
 TEST_F(Cli, RenderWritesTheErrorHeatMapAgainstTheReference) {

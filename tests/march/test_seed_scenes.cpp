@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <set>
 
@@ -266,6 +269,40 @@ TEST(SeedScenes, FogertyStepsDefectHasABlackRim) {
   EXPECT_GE(defect.size(), fixed.size() + 2);
   const auto black = [](const std::array<float, 3>& c) { return c[0] == 0 && c[1] == 0 && c[2] == 0; };
   EXPECT_TRUE(black(defect.front()) && black(defect.back()));
+}
+
+// A material's own image: a ground textured with a 4x4 image of one colour (EXR, so exactly that colour; a one-
+// channel image reads as grey) draws that colour where ambient light alone shows the albedo. Broken variant: the
+// soil sampled whatever the material names.
+TEST(SeedScenes, AMaterialsTextureFileIsWhatItDraws) {
+  const auto folder = std::filesystem::temp_directory_path() / ("marchcheck_texture_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder);
+  Image rgb(4, 4, 3), grey(4, 4, 1);
+  for (int i = 0; i < 16; ++i) {
+    rgb.pixels[static_cast<size_t>(3 * i)] = 0.2f, rgb.pixels[static_cast<size_t>(3 * i + 1)] = 0.4f;
+    rgb.pixels[static_cast<size_t>(3 * i + 2)] = 0.6f, grey.pixels[static_cast<size_t>(i)] = 0.3f;
+  }
+  write_image(rgb, (folder / "rgb.exr").string());
+  write_image(grey, (folder / "grey.exr").string());
+  for (const auto& [file, expected] : {std::pair{"rgb.exr", std::array<float, 3>{0.2f, 0.4f, 0.6f}},
+                                       std::pair{"grey.exr", std::array<float, 3>{0.3f, 0.3f, 0.3f}}}) {
+    sdf::Scene s = sdf::builtin_scene("lee-textured");
+    s.width = 32, s.height = 18;
+    s.camera.fx = s.camera.fy = 15;
+    s.lights.clear();
+    s.effects.ambient = 1;
+    s.materials[1].texture_file = (folder / file).string();
+    const RenderResult r = render(s, {Aov::id});
+    int ground = 0;
+    for (int y = 0; y < s.height; ++y)
+      for (int x = 0; x < s.width; ++x)
+        if (*r.id.at(x, y) == 1) {
+          ++ground;
+          for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.color.at(x, y)[c], expected[c], 1e-6) << file;
+        }
+    EXPECT_GT(ground, 50) << file;
+  }
+  std::filesystem::remove_all(folder);
 }
 
 // crum-torus's listing draws no glow: every pixel that is not a hit is exactly black. Broken variant: the glow on.

@@ -2,6 +2,7 @@
 #include "zero_set.hpp"
 
 #include "marchcheck/sdf/node.hpp"
+#include "marchcheck/sdf/noise.hpp"
 #include "marchcheck/sdf/tape.hpp"
 
 #include <gtest/gtest.h>
@@ -182,6 +183,39 @@ TEST(Heightfield, IsALipschitzBoundedHeightField) {
                                                      {-20, -1, -20}, {20, 1, 20}, 200000);
   EXPECT_LE(measured, info.lipschitz);
   EXPECT_GT(measured, 1.05) << "the terrain is steeper than 1 somewhere: plain sphere tracing is unsafe";
+}
+
+// The lee seed's corner hash, fract(sin(dot(c, (12.9898, 54.233))) * 43758.5453123): at hand-computed cells in double
+// (Python's math.sin) it is the seed's; in float it is another function, off by up to about 0.5 over the cells within
+// 20 of the origin (sin of an argument of |c| * 55, rounded to float, times 43758), while splitmix64 differs by the
+// float rounding of its value alone (2^-24). Broken variant: the hash computed in double whatever the precision.
+TEST(Heightfield, TheSeedsSinHashIsAnotherFunctionInFloat) {
+  EXPECT_NEAR(seed_sin_lattice<double>(1, 0), 0.9216954437542881, 1e-9);
+  EXPECT_NEAR(seed_sin_lattice<double>(0, 1), 0.8089190688115195, 1e-9);
+  EXPECT_NEAR(seed_sin_lattice<double>(3, -2), 0.6200338828039094, 1e-9);
+  double seed = 0, splitmix = 0;
+  for (std::int64_t x = -20; x <= 20; ++x)
+    for (std::int64_t z = -20; z <= 20; ++z) {
+      seed = std::max(seed, std::abs(seed_sin_lattice<float>(x, z) - seed_sin_lattice<double>(x, z)));
+      splitmix = std::max(splitmix, std::abs(lattice<float>(NoiseHash::splitmix, x, z) - lattice_value(x, z)));
+    }
+  EXPECT_GT(seed, 0.3);
+  EXPECT_LE(splitmix, 0x1p-24);
+  // In a height field: the same terrain in float and double with splitmix64, another one with the seed's hash.
+  for (const double hash : {0.0, 1.0}) {
+    const Tape tape = compile(make(Op::heightfield, {{"hash", {hash}}, {"octaves", {-0.5, 0.5}}}));
+    double worst = 0;
+    for (double x = -9.5; x < 10; x += 1.37)
+      for (double z = -9.5; z < 10; z += 1.37) {
+        const glm::dvec3 p(x, 0, z);
+        worst = std::max(worst, std::abs(sdf::evaluate(tape, glm::vec3(p)) - sdf::evaluate(tape, p)));
+      }
+    if (hash == 0) {
+      EXPECT_LT(worst, 1e-6);
+    } else {
+      EXPECT_GT(worst, 0.05);
+    }
+  }
 }
 
 TEST(Mandelbulb, IsFiniteEverywhereItIsAsked) {

@@ -215,6 +215,28 @@ class MeshScene : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
+// A material's texture_file is found beside the scene file (and exported resolved); a missing one, or one without
+// a texture mapping to put it on, is refused naming the JSON place and the file. Broken variants: the path taken
+// from the working folder; a missing file accepted (the soil drawn in its place).
+TEST_F(MeshScene, ATextureFileIsFoundBesideTheSceneFileOrRefused) {
+  std::ofstream(dir_ / "soil.png") << "not checked here: march reads it";
+  const auto scene_with = [&](const std::string& name, const std::string& material) {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path) << R"({"sdf": {"type": "sphere", "radius": 1}, "materials": [)" << material << "]}";
+    return path;
+  };
+  const Scene s = load_scene_file(scene_with("t.json", R"({"name": "g", "texture": "planar", "texture_file": "soil.png"})"));
+  EXPECT_EQ(s.materials.at(0).texture_file, (dir_ / "soil.png").string());
+  EXPECT_EQ(load_scene_file(scene_with("again.json", "")).materials.size(), 0u);
+  const std::string missing = scene_with("m.json", R"({"name": "g", "texture": "planar", "texture_file": "nowhere.png"})");
+  EXPECT_EQ(error_of(missing), missing + ": /materials/0/texture_file: '" + (dir_ / "nowhere.png").string() +
+                                   "': no such file");
+  const std::string unmapped = scene_with("u.json", R"({"name": "g", "texture_file": "soil.png"})");
+  EXPECT_NE(error_of(unmapped).find("/materials/0/texture_file: an image needs a \"texture\" mapping"),
+            std::string::npos)
+      << error_of(unmapped);
+}
+
 // Broken variant: load_scene_file without the default leaves the name empty (render printed ": 32x18, ...").
 TEST_F(MeshScene, AFileWithoutANameGoesByItsFileName) {
   const std::string path = (dir_ / "unnamed part.json").string();

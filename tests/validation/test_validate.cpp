@@ -23,6 +23,7 @@ const Check* find(const SceneResult& r, const std::string& name) {
 const std::map<std::string, std::string> kDefectTable = {
     {"lee-flat-defect-bias", "shadow.false_shadow"},
     {"lee-terrain-defect-lipschitz", "march.safe_step_ratio"},
+    {"lee-terrain-defect-hash", "hit.false_hit"},
     {"crum-torus-defect-fov", "camera.fov_err_deg"},
     {"crum-smooth-defect-intersect", "hit.false_hit"},
     {"crum-smooth-defect-subtract", "hit.false_hit"},

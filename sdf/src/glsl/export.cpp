@@ -78,13 +78,20 @@ float mc_lattice(uvec2 ix, uvec2 iz) {
   if (tail > 0x10000000u || (tail == 0x10000000u && (top & 1u) == 1u)) top += 1u;
   return float(top) * scale;
 }
-float mc_value_noise(float x, float z) {
+// The lee seed's hash, in float as its shader computes it (sdf::seed_sin_lattice).
+float mc_seed_sin(float cx, float cz) { float s = sin(cx * 12.9898 + cz * 54.233) * 43758.5453123; return s - floor(s); }
+float mc_value_noise(float x, float z, bool seedSin) {
   float fx = floor(x), fz = floor(z);
   uvec2 ix = mc_cell(fx), iz = mc_cell(fz);
   float tx = x - fx, tz = z - fz;
   float ux = tx * tx * (3.0 - 2.0 * tx), uz = tz * tz * (3.0 - 2.0 * tz);
-  float a = mc_lattice(ix, iz), b = mc_lattice(mc_add1(ix), iz);
-  float c = mc_lattice(ix, mc_add1(iz)), d = mc_lattice(mc_add1(ix), mc_add1(iz));
+  float a, b, c, d;
+  if (seedSin) {
+    a = mc_seed_sin(fx, fz), b = mc_seed_sin(fx + 1.0, fz), c = mc_seed_sin(fx, fz + 1.0), d = mc_seed_sin(fx + 1.0, fz + 1.0);
+  } else {
+    a = mc_lattice(ix, iz), b = mc_lattice(mc_add1(ix), iz);
+    c = mc_lattice(ix, mc_add1(iz)), d = mc_lattice(mc_add1(ix), mc_add1(iz));
+  }
   return mc_mix(mc_mix(a, b, ux), mc_mix(c, d, ux), uz);
 }
 )";
@@ -443,8 +450,9 @@ const std::map<TapeOp, GlslKernel>& glsl_kernels() {
                           "  else if (3.0 * p.z < m) q = vec3(p.z, p.x, p.y); else return m * 0.57735026918962576;\n"
                           "  float kk = mc_clamp(0.5 * (q.z - q.y + s), 0.0, s); return mc_length(vec3(q.x, q.y - s + kk, q.z - kk)); }"}},
     {TapeOp::octahedron_bound, {"float k_octahedron_bound(int at, vec3 p) { p = abs(p); return (p.x + p.y + p.z - K[at]) * 0.57735026918962576; }"}},
-    {TapeOp::heightfield, {"float k_heightfield(int at, vec3 p) { int pairs = int(K[at]); float h = 0.0;\n"
-                           "  for (int i = 0; i < pairs; ++i) h += K[at + 1 + 2 * i] * mc_value_noise(p.x * K[at + 2 + 2 * i], p.z * K[at + 2 + 2 * i]);\n"
+    {TapeOp::heightfield, {"float k_heightfield(int at, vec3 p) { int pairs = int(K[at]); bool seedSin = K[at + 1] != 0.0;\n"
+                           "  float h = 0.0;\n"
+                           "  for (int i = 0; i < pairs; ++i) h += K[at + 2 + 2 * i] * mc_value_noise(p.x * K[at + 3 + 2 * i], p.z * K[at + 3 + 2 * i], seedSin);\n"
                            "  return p.y - h; }", "", false, kNoiseHelpers}},
     {TapeOp::mandelbulb, {"float k_mandelbulb(int at, int extra, vec3 p) { float power = K[at]; int iterations = int(K[at + 1]);\n"
                           "  float bailout2 = K[at + 2] * K[at + 2]; vec3 w = p; float m = mc_dot(w, w);\n"
@@ -1057,6 +1065,10 @@ std::string main_image_code(const Scene& s) {
 
 std::string shadertoy_shader(const Scene& scene) {
   const Scene& s = scene;
+  for (const Material& m : s.materials)
+    if (!m.texture_file.empty())
+      throw SceneError("material '" + m.name + "': its texture_file is an image, which a self-contained shader "
+                       "cannot carry (only the procedural soil is exported)");
   std::ostringstream out;
   out << "// " << s.name << ", exported by marchcheck (scenes --export-glsl): paste into Shadertoy as it is.\n"
       << "// The map is the scene's compiled field; the camera, marcher, normals, meshes, lights, shadows, textures,\n"

@@ -133,8 +133,10 @@ std::vector<OpRules> solid_rules() {
 // The primitives that are fields rather than solids with a closed form: a height field, a fractal, a mesh.
 std::vector<OpRules> field_rules() {
   return {
-      {{Op::heightfield, "heightfield", 3, 0, 0, 0, {P{"octaves", 0, {}, -kInf, kInf}},
-        "p.y - sum(amplitude * value_noise(frequency * p.xz)) over [amplitude, frequency] pairs"},
+      {{Op::heightfield, "heightfield", 3, 0, 0, 0, {P{"hash", 1, {0}, 0, 1}, P{"octaves", 0, {}, -kInf, kInf}},
+        "p.y - sum(amplitude * value_noise(frequency * p.xz)) over [amplitude, frequency] pairs; hash 0: splitmix64 "
+        "(the same in every precision), 1: the lee seed's fract(sin(dot(c, (12.9898, 54.233))) * 43758.5453123) in "
+        "the march's arithmetic"},
        [](const Node& n, auto, double) {
          // Smoothstep-interpolated bilinear noise in [0,1]: each partial derivative is at most 1.5 * frequency.
          double slope = 0, top = 0;
@@ -150,12 +152,17 @@ std::vector<OpRules> field_rules() {
          return out;
        },
        [](Compiler& c, const Node& n) {
-         const auto offset = c.constants({static_cast<double>(n.params.size() / 2)});
-         c.constants(n.params);
+         const auto octaves = n.param("octaves");
+         const auto offset = c.constants({static_cast<double>(octaves.size() / 2), n.scalar("hash")});
+         c.constants(octaves);
          c.primitive(TapeOp::heightfield, offset, n);
        },
        {{"octaves", {0.4, 1.1, 0.1, 3}}},
-       [](const Node& n) { return n.params.empty() ? std::string("/octaves: needs at least one pair") : ""; }},
+       [](const Node& n) {
+         if (n.param("octaves").empty()) return std::string("/octaves: needs at least one pair");
+         const double hash = n.scalar("hash");
+         return hash == 0 || hash == 1 ? std::string() : std::string("/hash: 0 (splitmix64) or 1 (the seed's sin hash)");
+       }},
       {{Op::mandelbulb, "mandelbulb", 3, 0, 0, 0,
         {P{"power", 1, {8}, 2, 16}, P{"iterations", 1, {8}, 1, 64}, P{"bailout", 1, {2}, 1.0001, 1e3}},
         "power-N Mandelbulb distance estimator"},

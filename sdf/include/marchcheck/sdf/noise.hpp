@@ -19,9 +19,27 @@ inline double lattice_value(std::int64_t ix, std::int64_t iz) {
   return static_cast<double>(h >> 11) * (1.0 / 9007199254740992.0);
 }
 
+// The lattice hashes a height field's noise takes. splitmix: lattice_value, the same function in every precision.
+// seed_sin: the lee seed's fract(sin(dot(c, (12.9898, 54.233))) * 43758.5453123), computed in the march's own
+// arithmetic as its shader does: sin of an argument of |c| * 55, times 43758, keeps a few correct digits in float,
+// so the terrain is not the same in float and double, and moves farther from the origin (the seed's defect).
+enum class NoiseHash { splitmix = 0, seed_sin = 1 };
+
+template <class V>
+inline V seed_sin_lattice(std::int64_t ix, std::int64_t iz) {
+  using std::floor, std::sin;
+  const V s = sin(static_cast<V>(ix) * V(12.9898) + static_cast<V>(iz) * V(54.233)) * V(43758.5453123);
+  return s - floor(s);
+}
+
+template <class V>
+inline V lattice(NoiseHash hash, std::int64_t ix, std::int64_t iz) {
+  return hash == NoiseHash::seed_sin ? seed_sin_lattice<V>(ix, iz) : static_cast<V>(lattice_value(ix, iz));
+}
+
 // Bilinear value noise with smoothstep interpolation; values in [0, 1].
 template <class T>
-inline T value_noise(T x, T z) {
+inline T value_noise(T x, T z, NoiseHash hash = NoiseHash::splitmix) {
   using namespace smath;
   const T fx = floor(x), fz = floor(z);
   // Lattice coordinates beyond int64 (or NaN) would be undefined behaviour: fold them to cell 0.
@@ -30,8 +48,8 @@ inline T value_noise(T x, T z) {
   const T tx = x - fx, tz = z - fz;
   const T ux = tx * tx * (T(3) - T(2) * tx), uz = tz * tz * (T(3) - T(2) * tz);
   using V = decltype(value_of(T{}));
-  const T a(static_cast<V>(lattice_value(ix, iz))), b(static_cast<V>(lattice_value(ix + 1, iz)));
-  const T c(static_cast<V>(lattice_value(ix, iz + 1))), d(static_cast<V>(lattice_value(ix + 1, iz + 1)));
+  const T a(lattice<V>(hash, ix, iz)), b(lattice<V>(hash, ix + 1, iz));
+  const T c(lattice<V>(hash, ix, iz + 1)), d(lattice<V>(hash, ix + 1, iz + 1));
   return mix(mix(a, b, ux), mix(c, d, ux), uz);
 }
 

@@ -69,6 +69,9 @@ struct Material {
   TextureMapping texture = TextureMapping::none;
   double texture_scale = 1;
   glm::dvec3 texture_origin{0};  // what a spherical texture's angles are measured about (a sphere's centre)
+  // An image for the texture (any format OpenImageIO reads; a scene file names it relative to itself); "" is the
+  // procedural soil. Looked up bilinearly, wrapping periodically, without MIP maps.
+  std::string texture_file{};
   double ramp_value = -1;  // >= 0: colour from the scene's ramp at this value
 };
 

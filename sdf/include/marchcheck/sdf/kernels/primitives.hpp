@@ -130,14 +130,15 @@ MARCHCHECK_KERNEL T octahedron_bound(const Args<T>& k, vec3<T> p) {
   return (p.x + p.y + p.z - k(0)) * literal<T>(0.57735026918962576);
 }
 
-// k: the number of pairs, then [amplitude, frequency] pairs.
+// k: the number of pairs, the lattice hash (NoiseHash), then [amplitude, frequency] pairs.
 template <class T>
 MARCHCHECK_KERNEL T heightfield(const Args<T>& k, vec3<T> p) {
   const auto pairs = static_cast<std::uint32_t>(k.raw(0));
+  const auto hash = static_cast<NoiseHash>(static_cast<int>(k.raw(1)));
   T h(0);
   for (std::uint32_t i = 0; i < pairs; ++i) {
-    const T amp = k(1 + 2 * i), freq = k(2 + 2 * i);
-    h += amp * value_noise(p.x * freq, p.z * freq);
+    const T amp = k(2 + 2 * i), freq = k(3 + 2 * i);
+    h += amp * value_noise(p.x * freq, p.z * freq, hash);
   }
   return p.y - h;
 }
