@@ -36,7 +36,9 @@ std::string base_of(const std::string& path) {
 std::vector<unsigned char> to_8bit(const Image& image, bool srgb) {
   std::vector<unsigned char> bytes(image.pixels.size());
   for (size_t i = 0; i < bytes.size(); ++i) {
-    const float v = srgb ? to_srgb(image.pixels[i]) : std::clamp(image.pixels[i], 0.0f, 1.0f);
+    // NaN is written black, as llvmpipe writes it (a GPU's driver may write anything; lround's is unspecified).
+    const float raw = std::isnan(image.pixels[i]) ? 0.0f : image.pixels[i];
+    const float v = srgb ? to_srgb(raw) : std::clamp(raw, 0.0f, 1.0f);
     bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
   }
   return bytes;

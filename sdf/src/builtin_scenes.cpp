@@ -166,6 +166,17 @@ Scene lee_flat_defect_bias() {
   return s;
 }
 
+// The seed's miss: +inf, shaded anyway at ro + inf rd, so every background pixel's colour is NaN.
+Scene lee_flat_defect_nan() {
+  Scene s = lee(false);
+  s.name = "lee-flat-defect-nan";
+  s.description = "lee-flat shading its misses as the seed does: a miss returns +inf and is shaded at ro + inf rd, so "
+                  "the pixel's colour is NaN (black on llvmpipe, anything on another driver)";
+  s.defects = {"nan"};
+  s.march.reading = RecordReading::seed_infinity;
+  return s;
+}
+
 Scene lee_terrain_defect_lipschitz() {
   Scene s = lee(true);
   s.name = "lee-terrain-defect-lipschitz";
@@ -530,6 +541,7 @@ const std::vector<std::pair<std::string, std::function<Scene()>>>& registry() {
       {"mesh-box", mesh_box},
       // Defect variants: each reproduces one seed defect faithfully; `scenes` lists them as such.
       {"lee-flat-defect-bias", lee_flat_defect_bias},
+      {"lee-flat-defect-nan", lee_flat_defect_nan},
       {"lee-terrain-defect-lipschitz", lee_terrain_defect_lipschitz},
       {"lee-terrain-defect-hash", lee_terrain_defect_hash},
       {"crum-torus-defect-fov", crum_torus_defect_fov},

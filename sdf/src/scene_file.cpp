@@ -50,7 +50,8 @@ constexpr EnumName<CameraAxes> kCameraAxes[] = {{CameraAxes::right_handed, "righ
                                                 {CameraAxes::shader, "shader"}};
 constexpr EnumName<LensConvention> kLenses[] = {{LensConvention::opencv, "opencv"}, {LensConvention::shader, "shader"}};
 constexpr EnumName<RecordReading> kReadings[] = {{RecordReading::outcome, "outcome"},
-                                                  {RecordReading::seed_distance, "seed_distance"}};
+                                                  {RecordReading::seed_distance, "seed_distance"},
+                                                  {RecordReading::seed_infinity, "seed_infinity"}};
 constexpr EnumName<OutputTransfer> kTransfers[] = {{OutputTransfer::srgb, "srgb"}, {OutputTransfer::linear, "linear"}};
 constexpr EnumName<CameraPose> kCameraPoses[] = {{CameraPose::look_at, "look_at"}, {CameraPose::orbit, "orbit"}};
 constexpr EnumName<LightType> kLightTypes[] = {{LightType::point, "point"}, {LightType::directional, "directional"}};

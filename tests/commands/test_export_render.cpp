@@ -44,6 +44,8 @@ std::vector<double> pixels_over(const sdf::Scene& scene, const std::vector<float
     for (int x = 0; x < w; ++x) {
       const float* c = cpu.color.at(x, y);
       const float* d = &driver[(static_cast<size_t>(h - 1 - y) * w + x) * 4];  // Shadertoy's rows count up
+      // A NaN pixel (the lee seed's shaded miss) is undefined: a driver writes it as it likes.
+      if (std::isnan(c[0]) || std::isnan(c[1]) || std::isnan(c[2])) continue;
       float largest = 0;
       for (int k = 0; k < 3; ++k) {
         EXPECT_TRUE(std::isfinite(d[k])) << scene.name << " pixel " << x << ", " << y;
@@ -85,7 +87,7 @@ TEST(ExportRender, EveryBuiltinsExportRendersOnTheDriverWithinTheImageTolerance)
     ++compared;
   }
   RecordProperty("compared", compared);
-  EXPECT_EQ(compared, 30);
+  EXPECT_EQ(compared, 31);
 }
 
 // What no built-in declares, exported and rendered all the same: each marcher, hit threshold, normal method,
@@ -159,7 +161,7 @@ TEST(ExportRender, EveryExportCompilesAsShadertoysGlslEs300) {
     ++compiled;
   }
   std::filesystem::remove_all(dir);
-  EXPECT_EQ(compiled, 30);
+  EXPECT_EQ(compiled, 31);
 }
 
 // The export's soil texture, run by marchcheck's GLSL evaluator (no driver needed), against the renderer's own

@@ -89,6 +89,8 @@ TEST_P(EveryBuiltin, EvaluationCountsAddUpAndNoPixelIsNaN) {
     for (size_t i = stage; i < r.stage_evals.pixels.size(); i += r.stage_names.size()) sum += r.stage_evals.pixels[i];
     EXPECT_EQ(static_cast<std::uint64_t>(sum), r.stages.at(r.stage_names[stage]).evals) << r.stage_names[stage];
   }
+  // No NaN, but in the variant that reproduces the lee seed's NaN background (SeedScenes.LeesShadedMissIsNaN...).
+  if (std::ranges::count(sdf::builtin_scene(GetParam()).defects, "nan") > 0) return;
   for (float v : r.color.pixels) ASSERT_FALSE(std::isnan(v));
 }
 

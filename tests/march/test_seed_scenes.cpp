@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 #include <set>
 
@@ -303,6 +304,33 @@ TEST(SeedScenes, AMaterialsTextureFileIsWhatItDraws) {
     EXPECT_GT(ground, 50) << file;
   }
   std::filesystem::remove_all(folder);
+}
+
+// lee's miss returns +inf and its shader shades it anyway at ro + inf rd: every background pixel of the variant that
+// reproduces it is NaN, and its PNG writes them black, as llvmpipe does; every other pixel is the fixed scene's.
+// Broken variants: misses left as misses; NaN written as whatever the conversion makes of it.
+TEST(SeedScenes, LeesShadedMissIsNaNWrittenBlack) {
+  sdf::Scene fixed = sdf::builtin_scene("lee-flat"), defect = sdf::builtin_scene("lee-flat-defect-nan");
+  for (sdf::Scene* s : {&fixed, &defect}) {
+    s->width = 160, s->height = 90;
+    s->camera.fx = s->camera.fy = 75;
+  }
+  const RenderResult a = render(fixed, {Aov::id}), b = render(defect);
+  int misses = 0, nan = 0, other = 0;
+  for (int y = 0; y < fixed.height; ++y)
+    for (int x = 0; x < fixed.width; ++x) {
+      const bool miss = *a.id.at(x, y) < 0;
+      misses += miss;
+      const auto c = pixel(b.color, x, y);
+      if (miss) nan += std::isnan(c[0]) && std::isnan(c[1]) && std::isnan(c[2]);
+      if (!miss) other += c != pixel(a.color, x, y);
+    }
+  EXPECT_GT(misses, 100);
+  EXPECT_EQ(nan, misses);
+  EXPECT_EQ(other, 0);
+  Image one(1, 1, 3, std::numeric_limits<float>::quiet_NaN());
+  EXPECT_EQ(to_8bit(one, false), (std::vector<unsigned char>{0, 0, 0}));
+  EXPECT_EQ(to_8bit(one, true), (std::vector<unsigned char>{0, 0, 0}));
 }
 
 // crum-torus's listing draws no glow: every pixel that is not a hit is exactly black. Broken variant: the glow on.

@@ -47,7 +47,7 @@ const std::vector<DefaultLimit>& default_limits() {
       {"march.over_max_steps", 0, "rays whose march evaluated the field more often than max_steps allows"},
       {"march.sentinel_t", 0,
        "fraction of rays whose outcome reaches the consumer only as a distance (a miss as 0, which a hit at the ray "
-       "origin also returns; an unfinished ray as where it stopped)"},
+       "origin also returns, or as +inf; an unfinished ray as where it stopped)"},
       {"normal.length_err_max", 1e-4, "largest | |n| - 1 | of the normals at hits (float rounding gives ~1e-7)"},
       {"sdf.lipschitz_over_declared", 1.001, "measured Lipschitz constant over the declared one"},
       {"march.safe_step_ratio", 1.001, "measured Lipschitz constant times the marcher's step per unit of f"},
@@ -57,6 +57,9 @@ const std::vector<DefaultLimit>& default_limits() {
        "point (16 unit roundoffs of 1 + |p|)"},
       {"image.pixels_over", 0.02, "fraction of pixels whose colour differs from the reference render by > 0.1",
        false},
+      {"image.nan_pixels", 0,
+       "fraction of pixels whose marched colour is NaN or infinite (a driver writes them as it likes: black on "
+       "llvmpipe)"},
       {"camera.fov_err_deg", 1e-6, "field of view the rays span minus the declared one"},
       {"camera.ray_norm_err", 1e-6, "largest | |direction| - 1 | of the generated rays"},
       {"sdf.lipschitz_certified_over_declared", 1.001,
@@ -101,7 +104,7 @@ Subject subject_in(const sdf::Scene& scene) {
     const auto read = march::as_read(r, settings);  // as the seed's consumer reads it
     MarchedRay m{read.outcome, static_cast<double>(read.t), r.evals, std::nullopt};
     // Its outcome known only from a sentinel distance: a miss returned as 0, an unfinished ray as where it stopped.
-    m.sentinel = settings.reading == sdf::RecordReading::seed_distance && r.outcome != Outcome::hit;
+    m.sentinel = settings.reading != sdf::RecordReading::outcome && r.outcome != Outcome::hit;
     return m;
   };
   s.normal = [tape, field, settings](dvec3 p, double t) {
@@ -338,6 +341,11 @@ struct HitJudge {
     const ReferenceHit& rh = r.rh;
     const double t_m = r.rec.t * r.len;
     const double eps_m = j.hit_threshold(r.rec.t);
+    if (!std::isfinite(t_m)) {  // a hit at an infinite distance (a miss shaded as the lee seed does) has no point
+      ++false_hit;
+      j.offenders.first("hit.false_hit", text);
+      return std::nullopt;
+    }
     const dvec3 p_m = r.ray.origin + r.ray.direction * r.rec.t;
     const std::optional<dvec3> n_m = j.subject.normal ? j.subject.normal(p_m, r.rec.t) : r.rec.normal;
     if (n_m) normals.length(j.offenders, r, *n_m);
@@ -646,6 +654,10 @@ void image_metrics(const ImagePair& pair, double threshold, std::map<std::string
     worst = std::max<double>(worst, d);
     if (d > threshold) ++over;
   }
+  size_t undefined = 0;
+  for (size_t i = 0; i < pixels; ++i)
+    undefined += !std::isfinite(marched[3 * i]) || !std::isfinite(marched[3 * i + 1]) || !std::isfinite(marched[3 * i + 2]);
+  m["image.nan_pixels"] = static_cast<double>(undefined) / static_cast<double>(pixels);
   const double rms = std::sqrt(sum2 / static_cast<double>(3 * pixels));
   m["image.rms"] = rms;
   m["image.max"] = worst;
@@ -666,9 +678,13 @@ ImagePair render_image_pair(const sdf::Scene& scene, int width, const std::vecto
   pair.difference = march::Image(small.width, small.height, 1);
   for (size_t i = 0; i < pair.difference.pixels.size(); ++i) {
     float worst = 0;
-    for (size_t c = 0; c < 3; ++c)
-      worst = std::max(worst, std::abs(std::clamp(pair.marched.color.pixels[3 * i + c], 0.f, 1.f) -
+    for (size_t c = 0; c < 3; ++c) {
+      const float marched = pair.marched.color.pixels[3 * i + c];
+      // A NaN or infinite colour (the lee seed's shaded miss) is as far from the reference as a colour can be.
+      if (!std::isfinite(marched)) worst = std::numeric_limits<float>::infinity();
+      worst = std::max(worst, std::abs(std::clamp(marched, 0.f, 1.f) -
                                        std::clamp(pair.reference.color.pixels[3 * i + c], 0.f, 1.f)));
+    }
     pair.difference.pixels[i] = worst;
   }
   return pair;

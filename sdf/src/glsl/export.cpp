@@ -1036,6 +1036,9 @@ std::string main_image_code(const Scene& s) {
   // The fogerty seed's reading (march::as_read): the distance alone, 0 past max_dist, shaded where t > 0.
   if (s.march.reading == RecordReading::seed_distance)
     out << "  if (r.outcome == 1) r.t = 0.0;\n  r.outcome = (r.outcome == 0 || r.outcome == 2) && r.t > 0.0 ? 0 : 1;\n";
+  // The lee seed's (march::as_read): a miss at +inf, shaded anyway.
+  if (s.march.reading == RecordReading::seed_infinity)
+    out << "  if (r.outcome != 0) { r.outcome = 0; r.t = uintBitsToFloat(0x7f800000u); }\n";
   const bool meshes = !s.meshes.empty();
   out << "  vec3 col = " << vec3_literal(e.background) << ";\n"
       << "  bool onMesh = " << (meshes ? "mesh.hit && r.outcome != 0" : "false") << ";\n"

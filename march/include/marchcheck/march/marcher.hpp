@@ -37,10 +37,14 @@ struct RayRecord {
   bool decided() const { return march::decided(outcome); }
 };
 
-// The record as the scene's consumer reads it (MarchSettings::reading): as it is, or through the fogerty seed's
-// distance alone, shaded where t > 0 (a miss returns 0).
+// The record as the scene's consumer reads it (MarchSettings::reading): as it is; through the fogerty seed's
+// distance alone, shaded where t > 0 (a miss returns 0); or as the lee seed's, every ray shaded (a miss at +inf).
 template <class T>
 RayRecord<T> as_read(RayRecord<T> r, const MarchSettings& s) {
+  if (s.reading == sdf::RecordReading::seed_infinity && r.outcome != Outcome::hit) {
+    r.outcome = Outcome::hit;
+    r.t = std::numeric_limits<T>::infinity();
+  }
   if (s.reading != sdf::RecordReading::seed_distance) return r;
   if (r.outcome == Outcome::miss_far) r.t = 0;
   const bool shaded = (r.outcome == Outcome::hit || r.outcome == Outcome::miss_steps) && r.t > 0;

@@ -29,7 +29,9 @@ enum class Precision { float32, float64 };  // float or double arithmetic in the
 // How the scene's consumer reads a march. outcome: the record's own outcome. seed_distance: the fogerty seed's,
 // which gets a distance alone (0 past max_dist, wherever the march stopped otherwise) and shades any t > 0: a ray
 // that ran out of steps is drawn as a hit where it stopped, and a miss cannot be told from a hit at the ray origin.
-enum class RecordReading { outcome, seed_distance };
+// seed_infinity: the lee seed's, whose miss returns +inf and is shaded anyway at ro + inf rd: the pixel's colour
+// is NaN (black on llvmpipe, anything on another driver).
+enum class RecordReading { outcome, seed_distance, seed_infinity };
 
 // The over-relaxation factors a relaxed march takes: [1, 2). At 2 the relaxed step's fallback test (two
 // unbounding spheres that must overlap) no longer holds. Scene files and --set refuse others; a march given one
