@@ -81,8 +81,9 @@ Image heat_map(const Image& values, double max_value) {
   Image out(values.width, values.height, 3);
   for (int y = 0; y < values.height; ++y)
     for (int x = 0; x < values.width; ++x) {
-      const double v = *values.at(x, y);
-      const double u = max_value > 0 && std::isfinite(v) ? std::clamp(v / max_value, 0.0, 1.0) * 4 : 0;
+      // +inf (a NaN pixel's error: validate's difference image) at the top; NaN, and anything over no range, at 0.
+      const double ratio = max_value > 0 ? *values.at(x, y) / max_value : 0;
+      const double u = std::isnan(ratio) ? 0 : std::clamp(ratio, 0.0, 1.0) * 4;
       const int i = std::min(static_cast<int>(u), 3);
       const float f = static_cast<float>(u - i);
       float* c = out.at(x, y);

@@ -331,6 +331,9 @@ TEST(SeedScenes, LeesShadedMissIsNaNWrittenBlack) {
   Image one(1, 1, 3, std::numeric_limits<float>::quiet_NaN());
   EXPECT_EQ(to_8bit(one, false), (std::vector<unsigned char>{0, 0, 0}));
   EXPECT_EQ(to_8bit(one, true), (std::vector<unsigned char>{0, 0, 0}));
+  // Its error (validate's difference image holds +inf there) shows at the top of the heat map, not the bottom.
+  const Image infinite(1, 1, 1, std::numeric_limits<float>::infinity());
+  EXPECT_EQ(pixel(heat_map(infinite, kErrorHeatMapMax), 0, 0), (std::array<float, 3>{0.98f, 0.98f, 0.65f}));
 }
 
 // crum-torus's listing draws no glow: every pixel that is not a hit is exactly black. Broken variant: the glow on.
