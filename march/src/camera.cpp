@@ -48,10 +48,9 @@ inline NewtonStep newton_step(const Lens& lens, glm::dvec2 target, glm::dvec2 u)
   return {u - glm::dvec2(jy.y * r.x - jy.x * r.y, -jx.y * r.x + jx.x * r.y) / det, moved};
 }
 
-// The lens in the image's coordinates, y down: a shader distorts with y up, which is the same as p1 of the other
-// sign.
 Lens lens_of(const sdf::CameraSpec& spec) {
-  return Lens{spec.k1, spec.k2, spec.lens == sdf::LensConvention::shader ? -spec.p1 : spec.p1, spec.p2};
+  const sdf::LensCoefficients c = sdf::image_lens(spec);
+  return Lens{c.k1, c.k2, c.p1, c.p2};
 }
 
 }  // namespace

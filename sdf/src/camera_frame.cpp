@@ -28,4 +28,8 @@ CameraFrame camera_frame(const CameraSpec& spec) {
   return f;
 }
 
+LensCoefficients image_lens(const CameraSpec& spec) {
+  return {spec.k1, spec.k2, spec.lens == LensConvention::shader ? -spec.p1 : spec.p1, spec.p2};
+}
+
 }  // namespace marchcheck::sdf

@@ -666,9 +666,9 @@ std::string camera_code(const Scene& s) {
   const bool shader_lens = c.lens == LensConvention::shader;
   std::ostringstream out;
   if (c.model == CameraModel::intrinsics) {
-    // y down, as marchcheck's pixels: a shader's lens (y up) is the same with p1 of the other sign.
-    const std::string k1 = literal(float(c.k1)), k2 = literal(float(c.k2)),
-                      p1 = literal(float(shader_lens ? -c.p1 : c.p1)), p2 = literal(float(c.p2));
+    const LensCoefficients lens = image_lens(c);
+    const std::string k1 = literal(float(lens.k1)), k2 = literal(float(lens.k2)), p1 = literal(float(lens.p1)),
+                      p2 = literal(float(lens.p2));
     out << "// Brown-Conrady distortion and its Jacobian columns; undistort inverts it by Newton's method.\n"
         << "vec2 distort(vec2 u, out vec2 jx, out vec2 jy) {\n"
         << "  float r2 = u.x * u.x + u.y * u.y, radial = 1.0 + " << k1 << " * r2 + " << k2 << " * r2 * r2;\n"

@@ -141,6 +141,13 @@ struct CameraFrame {
 };
 CameraFrame camera_frame(const CameraSpec& spec);
 
+// The Brown-Conrady coefficients in the image's coordinates (y down), as the camera and the GLSL export apply them:
+// a shader's lens (y up) is the same with p1 of the other sign.
+struct LensCoefficients {
+  double k1, k2, p1, p2;
+};
+LensCoefficients image_lens(const CameraSpec& spec);
+
 enum class Diffuse { clamped, floor, unclamped };
 enum class AmbientOcclusion { none, steps, samples };
 enum class Shading { lambert, toon };
