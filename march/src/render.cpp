@@ -801,7 +801,7 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const
   const auto start = Clock::now();
   const int w = scene.width, h = scene.height;
   if (scene.lights.size() > kMaxLights) throw std::invalid_argument("at most 16 lights");
-  Context ctx{scene,  sdf::compile(scene.root, scene.time), Camera(scene.camera, w, h), {}, plan(scene, aovs, oracle),
+  Context ctx{scene,  sdf::compile(scene), Camera(scene.camera, w, h), {}, plan(scene, aovs, oracle),
               nullptr, oracle, {}, shade};
   ctx.march = march_context(ctx.camera, sdf::derive_info(scene.root, scene.time).lipschitz);
   for (const auto& light : scene.lights) ctx.light_positions.push_back(light.position_at(scene.time));

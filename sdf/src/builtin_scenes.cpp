@@ -352,6 +352,14 @@ Scene fogerty_defect(const std::string& which) {
                     "origin also returns";
     s.march.max_steps = 256;
     s.march.reading = RecordReading::seed_distance;
+  } else if (which == "mediump") {
+    // binary16 spaces values 2^-9 apart at |p| in [2, 4): twenty times the hit threshold, and the normal's 1e-3
+    // offsets round to 0 or to one spacing, so central differences give no direction or a wrong one.
+    s.description = "fogerty in the seed's mediump (IEEE binary16, as GPUs that honour it run it) with its absolute "
+                    "hit threshold 1e-4: hits and normals are noise at the scale binary16 resolves, the surface is "
+                    "speckled";
+    s.march.max_steps = 256;
+    s.march.precision = Precision::float16;
   } else {
     s.description = "fogerty with the ray direction passed where the camera position belongs: wrong specular and "
                     "silhouette";
@@ -551,6 +559,7 @@ const std::vector<std::pair<std::string, std::function<Scene()>>>& registry() {
       {"fogerty-defect-steps", [] { return fogerty_defect("steps"); }},
       {"fogerty-defect-miss0", [] { return fogerty_defect("miss0"); }},
       {"fogerty-defect-camera", [] { return fogerty_defect("camera"); }},
+      {"fogerty-defect-mediump", [] { return fogerty_defect("mediump"); }},
       {"warped-defect-unnormalised", [] { return warped_defect("unnormalised"); }},
       {"warped-defect-lipschitz", [] { return warped_defect("lipschitz"); }},
       {"flafla-torus-defect-no-drawdist", flafla_torus_defect_no_drawdist},

@@ -41,7 +41,7 @@ constexpr EnumName<NormalMethod> kNormals[] = {{NormalMethod::central, "central"
                                                {NormalMethod::analytic, "analytic"}};
 constexpr EnumName<ShadowMode> kShadows[] = {
     {ShadowMode::none, "none"}, {ShadowMode::hard, "hard"}, {ShadowMode::soft, "soft"}};
-constexpr EnumName<Precision> kPrecisions[] = {{Precision::float32, "float"}, {Precision::float64, "double"}};
+constexpr EnumName<Precision> kPrecisions[] = {{Precision::float32, "float"}, {Precision::float64, "double"}, {Precision::float16, "half"}};
 constexpr EnumName<CameraModel> kCameraModels[] = {{CameraModel::pinhole, "pinhole"},
                                                    {CameraModel::intrinsics, "intrinsics"},
                                                    {CameraModel::frustum, "frustum"},
@@ -222,25 +222,12 @@ void each_glsl_field(N& n, F&& f) {
   for (N& c : n.children) each_glsl_field(c, f);
 }
 
-// precision: the march's float or double; half (GLSL's mediump) is the march in float with the scene's GLSL fields
-// evaluated in binary16, and only a scene with a GLSL field has it.
-json precision_of(const Scene& s) {
-  bool half = false;
-  each_glsl_field(s.root, [&](const auto& field) { half = half || field->spec().half; });
-  return half ? json("half") : json(enum_name(kPrecisions, s.march.precision));
-}
-
+// precision: the march's float, double or half; the scene's GLSL fields follow it (binary16 in half, else float).
 void set_precision(Scene& s, const json& v, const std::string& where) {
-  const bool half = v == "half";
-  if (!half && v != "float" && v != "double") fail(where, "expected float, double or half");
-  s.march.precision = half ? Precision::float32 : enum_value(kPrecisions, v, where);
-  int fields = 0;
+  s.march.precision = enum_value(kPrecisions, v, where);
   each_glsl_field(s.root, [&](std::shared_ptr<const GlslField>& field) {
-    field = std::make_shared<const GlslField>(field->with_half(half));
-    ++fields;
+    field = std::make_shared<const GlslField>(field->with_half(s.march.precision == Precision::float16));
   });
-  if (half && fields == 0)
-    fail(where, "half models GLSL's mediump, for GLSL fields; " + s.name + " has none");
 }
 
 const std::vector<Field<Scene>>& settings() {
@@ -256,7 +243,7 @@ const std::vector<Field<Scene>>& settings() {
       enum_field<Scene>("normal", kNormals, MEMBER(Scene, march.normal)),
       number_field<Scene>("normal_eps", MEMBER(Scene, march.normal_eps), 1e-12, 1),
       bool_field<Scene>("normal_eps_scaled", MEMBER(Scene, march.normal_eps_scaled)),
-      {"precision", precision_of, set_precision},
+      {"precision", [](const Scene& s) { return json(enum_name(kPrecisions, s.march.precision)); }, set_precision},
       enum_field<Scene>("reading", kReadings, MEMBER(Scene, march.reading)),
       // Overrides for every light at once.
       {"shadow", nullptr,
@@ -930,7 +917,13 @@ Scene scene_from_json(std::string_view text, const std::string& source, const Me
     scene.root = node_from_json(j["sdf"], "/sdf", scene, source, external, 0);
     if (j.contains("intended_sdf"))
       scene.intended = node_from_json(j["intended_sdf"], "/intended_sdf", scene, source, external, 0);
-    if (j.contains("precision")) set_precision(scene, j["precision"], "/precision");
+    if (j.contains("precision")) {
+      set_precision(scene, j["precision"], "/precision");
+    } else {  // a GLSL node's mediump is the scene's precision
+      each_glsl_field(scene.root, [&](const auto& field) {
+        if (field->spec().half) scene.march.precision = Precision::float16;
+      });
+    }
     load_meshes(scene, loader);
     if (auto error = validate_tree(scene.root); !error.empty()) throw SceneError("/sdf" + error);
     if (scene.intended)

@@ -1,5 +1,6 @@
 #include "marchcheck/sdf/tape.hpp"
 
+#include "marchcheck/sdf/scene.hpp"
 #include "ops/rules.hpp"
 
 namespace marchcheck::sdf {
@@ -77,6 +78,12 @@ Tape compile(const Node& root, double time) {
   ops::Compiler c(time);
   c.node(root);
   return c.finish();
+}
+
+Tape compile(const Scene& scene) {
+  Tape tape = compile(scene.root, scene.time);
+  tape.half = scene.march.precision == Precision::float16;
+  return tape;
 }
 
 }  // namespace marchcheck::sdf

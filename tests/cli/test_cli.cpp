@@ -513,9 +513,8 @@ TEST_F(Cli, HalfPrecisionModelsMediumpAndItsNormalsFail) {
     EXPECT_NE(check_line(r.output, check).find("pass"), std::string::npos) << check << "\n" << r.output;
   expect_bad_input("validate " + std::string(MARCHCHECK_TEST_DATA) + "/glsl/user_marcher.glsl --march rayMarch "
                    "--set precision=half", "--march judges the GL driver's run, in float; the marcher in half");
-  expect_bad_input("validate lee-flat --set precision=half",
-                   "--set precision=half: half models GLSL's mediump, for GLSL fields; lee-flat has none");
-  expect_bad_input("validate " + file + " --set precision=quad", "--set precision=quad: expected float, double or half");
+  expect_bad_input("validate " + file + " --set precision=quad",
+                   "--set precision=quad: 'quad' is not one of float, double, half");
   std::ofstream(path("half.json")) << R"({"name": "h", "sdf": {"type": "glsl", "code": "float map(vec3 p) { return )"
                                       R"(length(p) - 1.0; }", "kind": "exact", "precision": "quarter"}})";
   expect_bad_input("validate " + path("half.json"), "/precision: expected float or half");

@@ -272,6 +272,31 @@ TEST(SeedScenes, FogertyStepsDefectHasABlackRim) {
   EXPECT_TRUE(black(defect.front()) && black(defect.back()));
 }
 
+// fogerty's mediump: in binary16 the normal's 1e-3 offsets round away at |p| near 3 (values there lie 2^-9 apart)
+// and hits land on a 2^-9 grid, so the toon bands break into speckle: counted as pixels whose colour differs from
+// all four neighbours (a band edge is one-sided). At 640x360 the fixed scene, in float, has 16 (band corners), the
+// variant 2282 of the disc's ~10 000 pixels; the limits sit a factor of two or more from both. Broken variant: the
+// tape's half flag ignored (sdf-half-tape-in-float).
+TEST(SeedScenes, FogertyMediumpIsSpeckled) {
+  const auto speckles = [](const std::string& name) {
+    sdf::Scene s = sdf::builtin_scene(name);
+    s.width = 640, s.height = 360;
+    const RenderResult r = render(s);
+    int count = 0;
+    for (int y = 1; y + 1 < s.height; ++y)
+      for (int x = 1; x + 1 < s.width; ++x) {
+        const auto c = pixel(r.color, x, y);
+        count += c != pixel(r.color, x - 1, y) && c != pixel(r.color, x + 1, y) && c != pixel(r.color, x, y - 1) &&
+                 c != pixel(r.color, x, y + 1);
+      }
+    return count;
+  };
+  EXPECT_EQ(sdf::builtin_scene("fogerty-defect-mediump").march.precision, sdf::Precision::float16);
+  const int fixed = speckles("fogerty"), mediump = speckles("fogerty-defect-mediump");
+  EXPECT_LT(fixed, 40) << fixed;
+  EXPECT_GT(mediump, 1000) << mediump;
+}
+
 // A material's own image: a ground textured with a 4x4 image of one colour (EXR, so exactly that colour; a one-
 // channel image reads as grey) draws that colour where ambient light alone shows the albedo. Broken variant: the
 // soil sampled whatever the material names.

@@ -151,6 +151,30 @@ TEST(Glsl, AHalfFieldRoundsEveryOperation) {
   EXPECT_EQ(half.distance(glm::dvec3(0.3, 0.4, 1.2)), std::sqrt(0.09 + 0.16 + 1.44) - 1);  // double stays double
 }
 
+// A built-in tree in half (a scene's precision "half") is the same binary16 arithmetic as the same field written in
+// GLSL at mediump: a translated sphere, bit for bit at points around its surface, where rounding decides the
+// sign. Broken variants: the tape's half flag ignored (sdf-half-tape-in-float), the point not rounded to binary16
+// before the tape runs (sdf-half-point-unrounded).
+TEST(Glsl, ABuiltinTreeInHalfIsTheGlslFieldAtMediump) {
+  GlslSpec spec;
+  spec.measured = false;
+  spec.half = true;
+  const GlslField glsl(spec, "float map(vec3 p) { return length(p - vec3(0.5, -1.0, 2.0)) - 3.0; }", "half.glsl");
+  Tape tape = compile(translate({0.5, -1, 2}, sphere(3)));
+  tape.half = true;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int differ = 0, unlike_float = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const glm::dvec3 d = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
+    const glm::vec3 p(glm::dvec3(0.5, -1, 2) + d * (3 + 0.01 * u(rng)));
+    differ += evaluate(tape, p) != glsl.distance(p);
+    unlike_float += evaluate(tape, p) != glsl.with_half(false).distance(p);
+  }
+  EXPECT_EQ(differ, 0);
+  EXPECT_GT(unlike_float, 1000);
+}
+
 // The comparison can fail: the sphere 1 float ulp larger (0.75 + 2^-24 is representable) is caught nearly
 // everywhere.
 TEST(Glsl, AFieldOneUlpApartIsCaught) {

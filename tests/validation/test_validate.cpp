@@ -32,6 +32,7 @@ const std::map<std::string, std::string> kDefectTable = {
     {"fogerty-defect-steps", "hit.false_hit"},
     {"fogerty-defect-miss0", "march.sentinel_t"},
     {"fogerty-defect-camera", "image.pixels_over"},
+    {"fogerty-defect-mediump", "normal.angle_p99_deg"},
     {"warped-defect-unnormalised", "camera.ray_norm_err"},
     {"warped-defect-lipschitz", "hit.overshoot"},
     {"flafla-torus-defect-no-drawdist", "hit.undecided"},

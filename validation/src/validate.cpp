@@ -90,7 +90,7 @@ bool is_exact_outside(const sdf::Node& n, double time) {
 template <class T>
 Subject subject_in(const sdf::Scene& scene) {
   using V = glm::vec<3, T>;
-  const auto tape = std::make_shared<const sdf::Tape>(sdf::compile(scene.root, scene.time));
+  const auto tape = std::make_shared<const sdf::Tape>(sdf::compile(scene));
   const sdf::FieldInfo info = sdf::derive_info(scene.root, scene.time);
   const auto ctx = std::make_shared<const march::MarchContext>(
       march::march_context(march::Camera(scene.camera, scene.width, scene.height), info.lipschitz));

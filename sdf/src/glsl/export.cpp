@@ -1080,7 +1080,9 @@ std::string shadertoy_shader(const Scene& scene) {
   out << "#define MAX_STEPS " << s.march.max_steps << "\n#define MAX_DIST " << literal(float(std::min(s.march.max_dist, 1e30)))
       << "\n#define SURF_DIST " << literal(float(s.march.hit_eps)) << "\n";
   const std::string map = glsl_map(s.root, s.time, s.name);
-  out << map << marcher_code(s);
+  // Precision half: the field at mediump (binary16 on GPUs that honour it), the march and shading at highp.
+  const bool half = s.march.precision == Precision::float16;
+  out << (half ? "precision mediump float;\n" : "") << map << (half ? "precision highp float;\n" : "") << marcher_code(s);
   out << "float rayMarch(vec3 ro, vec3 rd) { return march(ro, rd, MAX_DIST, 1.0).t; }\n";
   bool textured = false;
   for (const Material& m : s.materials) textured = textured || m.texture != TextureMapping::none;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <bit>
+#include <concepts>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -28,11 +29,12 @@ inline float round_to_half(F x) {
 }
 
 struct Half {
-  float v = 0;
+  float v;  // no initialiser: GLM vectors of Half (the tape's points) need a trivial default constructor
   Half() = default;
   Half(double x) : v(round_to_half(x)) {}  // NOLINT: rounds, as a store does
   Half(float x) : v(round_to_half(x)) {}   // NOLINT
-  Half(int x) : Half(static_cast<double>(x)) {}  // NOLINT
+  template <std::integral I>
+  Half(I x) : Half(static_cast<double>(x)) {}  // NOLINT
   operator float() const { return v; }           // NOLINT: reads are exact
   Half& operator+=(Half b) { return *this = Half(v + b.v); }
   Half& operator-=(Half b) { return *this = Half(v - b.v); }

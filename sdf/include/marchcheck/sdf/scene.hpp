@@ -25,7 +25,9 @@ enum class ShadowMode { none, hard, soft };
 // start at p + n * (hit threshold at t + bias * float epsilon * (|p| + t)), which holds at any scene scale.
 enum class ShadowBias { seed_offset, seed_ignore, scaled };
 enum class SoftShadow { classic, improved };
-enum class Precision { float32, float64 };  // float or double arithmetic in the march
+// The march's arithmetic: float, double, or float16: GLSL's mediump as mobile GPUs run it, the march in float
+// with every field evaluation in IEEE binary16 (the tape's and each GLSL field's).
+enum class Precision { float32, float64, float16 };
 // How the scene's consumer reads a march. outcome: the record's own outcome. seed_distance: the fogerty seed's,
 // which gets a distance alone (0 past max_dist, wherever the march stopped otherwise) and shades any t > 0: a ray
 // that ran out of steps is drawn as a hit where it stopped, and a miss cannot be told from a hit at the ray origin.

@@ -46,6 +46,9 @@ struct Tape {
   std::vector<std::shared_ptr<const GlslField>> glsl_fields;
   int value_depth = 0;
   int point_depth = 0;
+  // GLSL's mediump as mobile GPUs run it: the float evaluations computed in IEEE binary16 (half.hpp), every
+  // operation rounded; double and dual evaluations stay as they are. A scene's precision "half".
+  bool half = false;
 
   template <class T>
   kernels::Args<T> args(const Instr& in) const {
@@ -59,6 +62,9 @@ struct CompileError : std::runtime_error {
 
 // Throws CompileError when the tree is invalid or needs deeper stacks than the fixed ones.
 Tape compile(const Node& root, double time = 0.0);
+struct Scene;
+// The scene's tree at its time, in its precision (half: the tape's float evaluations in binary16).
+Tape compile(const Scene& scene);
 
 template <class T>
 struct Sample {
@@ -142,17 +148,25 @@ inline Sample<T> run(const Tape& tape, vec3<T> p0) {
   }
 }
 
+// A half tape's float evaluation: p rounded to binary16, the tape run in binary16 (out of line, in one unit).
+float evaluate_half(const Tape& tape, glm::vec3 p);
+Sample<float> sample_half(const Tape& tape, glm::vec3 p);
+
 }  // namespace detail
 
 // The field's value at p.
 template <class T>
 inline T evaluate(const Tape& tape, glm::vec<3, T> p) {
+  if constexpr (std::is_same_v<T, float>)
+    if (tape.half) return detail::evaluate_half(tape, p);
   return detail::run<T, false>(tape, p).distance;
 }
 
 // The field's value at p and the material of the child that decides it.
 template <class T>
 inline Sample<T> sample(const Tape& tape, glm::vec<3, T> p) {
+  if constexpr (std::is_same_v<T, float>)
+    if (tape.half) return detail::sample_half(tape, p);
   return detail::run<T, true>(tape, p);
 }
 

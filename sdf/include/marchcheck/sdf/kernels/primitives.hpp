@@ -2,6 +2,7 @@
 #pragma once
 
 #include "marchcheck/sdf/glsl_field.hpp"
+#include "marchcheck/sdf/half.hpp"
 #include "marchcheck/sdf/kernels/kernel.hpp"
 #include "marchcheck/sdf/mesh_distance.hpp"
 #include "marchcheck/sdf/noise.hpp"
@@ -177,7 +178,9 @@ MARCHCHECK_KERNEL T mandelbulb(const Args<T>& k, vec3<T> p) {  // k: power, iter
 
 template <class T>
 MARCHCHECK_KERNEL T mesh(const Args<T>& k, vec3<T> p) {  // at: the index of the mesh, not of constants
-  return k.meshes[k.at]->signed_distance(p);
+  // A mesh is no shader's code: in binary16 its distance is float's, rounded once.
+  if constexpr (std::is_same_v<T, Half>) return T(k.meshes[k.at]->signed_distance(vec3<float>(p)));
+  else return k.meshes[k.at]->signed_distance(p);
 }
 
 template <class T>
