@@ -1,5 +1,7 @@
 #include "marchcheck/march/camera_relative.hpp"
 
+#include "marchcheck/march/camera.hpp"
+
 namespace marchcheck::march {
 
 sdf::Node camera_relative(const sdf::Node& root, glm::dvec3 eye) {
@@ -22,6 +24,15 @@ sdf::Node camera_relative(const sdf::Node& root, glm::dvec3 eye) {
     }
     default: return sdf::translate(-eye, root);
   }
+}
+
+glm::dvec3 march_origin(const sdf::Scene& scene) {
+  if (scene.march.coordinates == sdf::Coordinates::world) return glm::dvec3(0);
+  return Camera(scene.camera, scene.width, scene.height).eye();
+}
+
+sdf::Tape march_tape(const sdf::Scene& scene, glm::dvec3 origin) {
+  return origin == glm::dvec3(0) ? sdf::compile(scene) : sdf::compile(scene, camera_relative(scene.root, origin));
 }
 
 }  // namespace marchcheck::march

@@ -1,5 +1,6 @@
 #include "marchcheck/march/render.hpp"
 
+#include "marchcheck/march/camera_relative.hpp"
 #include "marchcheck/march/effects.hpp"
 #include "marchcheck/march/mesh_occluder.hpp"
 #include "marchcheck/march/normals.hpp"
@@ -117,6 +118,9 @@ Pipeline plan(const sdf::Scene& scene, const std::vector<Aov>& aovs, bool refere
 
 struct Context {
   const sdf::Scene& scene;
+  // What the march's positions are measured from (march_origin): rays, points and lights are relative to it;
+  // textures and the reference's oracle (world coordinates, double) add it back.
+  glm::dvec3 origin;
   sdf::Tape tape;
   Camera camera;
   MarchContext march;
@@ -147,8 +151,8 @@ glm::dvec3 material_color(const Context& ctx, int material, glm::dvec3 p, glm::d
   const auto& m = scene.materials[static_cast<size_t>(material)];
   if (const auto ramped = sdf::ramp_color(scene, m)) return *ramped;
   if (m.texture == sdf::TextureMapping::none) return m.color;
-  // Looked up just below the surface, as the seed does (p - n * SURF_DIST).
-  const glm::dvec3 q = p - n * scene.march.hit_eps;
+  // Looked up just below the surface, as the seed does (p - n * SURF_DIST), in world coordinates.
+  const glm::dvec3 q = p + ctx.origin - n * scene.march.hit_eps;
   if (m.texture == sdf::TextureMapping::planar)
     return m.color * sample_texture(texture_path(m), q.x * m.texture_scale, q.z * m.texture_scale);
   // The seed's: polar angle from +y, then longitude, about the texture's origin (the sphere's centre).
@@ -314,8 +318,9 @@ struct Tracer {
     return bounce(glm::dvec3(lit.r[0], lit.g[0], lit.b[0]), p, n.n, dir, material, depth, r.t);
   }
 
-  // The reference's shadows at its point p (outward normal n): each light's ray starts lift off the surface along n,
-  // lift bounding how far p may lie from the surface, so that it starts outside the solid it leaves.
+  // The reference's shadows at its point p (in the march's coordinates; outward normal n): each light's ray starts
+  // lift off the surface along n, lift bounding how far p may lie from the surface, so that it starts outside the
+  // solid it leaves.
   void reference_shadows(glm::dvec3 p, glm::dvec3 n, double lift, double* visibility) const {
     for (size_t i = 0; i < ctx.scene.lights.size(); ++i) {
       const auto& light = ctx.scene.lights[i];
@@ -324,7 +329,7 @@ struct Tracer {
       const glm::dvec3 lp = ctx.light_positions[i];
       const bool point = light.type == sdf::LightType::point;
       const glm::dvec3 l = point ? glm::normalize(lp - p) : -glm::normalize(light.direction);
-      visibility[i] = ctx.oracle->first_hit(p + n * lift, l, point ? glm::length(lp - p) : 1e9) ? 0.0 : 1.0;
+      visibility[i] = ctx.oracle->first_hit(p + ctx.origin + n * lift, l, point ? glm::length(lp - p) : 1e9) ? 0.0 : 1.0;
     }
   }
 
@@ -496,7 +501,7 @@ class TileRenderer {
     });
     ctx_.camera.rays(xs, ys, pixels_, rays_);
     each([&](PixelState& p, int, int) {
-      p.origin = V(rays_[index(p)].origin);
+      p.origin = V(rays_[index(p)].origin - ctx_.origin);
       p.direction = V(rays_[index(p)].direction);
     });
     lap(kMarch);
@@ -547,14 +552,15 @@ class TileRenderer {
   void reference_surfaces() {
     stage(kMarch, [&](PixelState& p, int, int) {
       const double len = glm::length(glm::dvec3(p.direction));
-      const auto hit = ctx_.oracle->first_hit(glm::dvec3(p.origin), unit_direction(p), s_.max_dist);
+      const glm::dvec3 origin = glm::dvec3(p.origin) + ctx_.origin;  // the oracle's world
+      const auto hit = ctx_.oracle->first_hit(origin, unit_direction(p), s_.max_dist);
       p.record = {};
       p.record.outcome = hit ? Outcome::hit : Outcome::miss_far;
       p.record.t = hit ? static_cast<T>(hit->t / len) : T(0);
       if (hit) {
         p.normal = V(hit->normal);
         p.reference_t = hit->t;
-        p.reference_lift = tolerance::reference_hit_slack(glm::dvec3(p.origin), hit->t, hit->t_error);
+        p.reference_lift = tolerance::reference_hit_slack(origin, hit->t, hit->t_error);
       }
       p.hit = hit.has_value();
       if (p.mesh.hit && (!hit || p.mesh.t < hit->t / len)) {
@@ -801,10 +807,11 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const
   const auto start = Clock::now();
   const int w = scene.width, h = scene.height;
   if (scene.lights.size() > kMaxLights) throw std::invalid_argument("at most 16 lights");
-  Context ctx{scene,  sdf::compile(scene), Camera(scene.camera, w, h), {}, plan(scene, aovs, oracle),
-              nullptr, oracle, {}, shade};
+  const glm::dvec3 origin = march_origin(scene);
+  Context ctx{scene,   origin, march_tape(scene, origin), Camera(scene.camera, w, h), {}, plan(scene, aovs, oracle),
+              nullptr, oracle, {},     shade};
   ctx.march = march_context(ctx.camera, sdf::derive_info(scene.root, scene.time).lipschitz);
-  for (const auto& light : scene.lights) ctx.light_positions.push_back(light.position_at(scene.time));
+  for (const auto& light : scene.lights) ctx.light_positions.push_back(light.position_at(scene.time) - origin);
   if (ctx.pipeline.textures) {
     soil_texture_path();  // made once, before the tiles look it up in parallel
     check_texture_files(scene);

@@ -7,6 +7,7 @@
 #include <OpenImageIO/texture.h>
 
 #include <filesystem>
+#include <cmath>
 #include <mutex>
 #include <unistd.h>
 
@@ -85,7 +86,10 @@ glm::dvec3 sample_texture(const std::string& path, double s, double t) {
   opt.interpmode = OIIO::TextureOpt::InterpBilinear;
   opt.mipmode = OIIO::TextureOpt::MipModeNoMIP;
   float rgb[3] = {0, 0, 0};
-  texture_system()->texture(OIIO::ustring(path), opt, static_cast<float>(s), static_cast<float>(t), 0, 0, 0, 0, 3, rgb);
+  // Wrapped in double first: OpenImageIO takes float coordinates, whose spacing at s = 2e5 (a point 1e6 from the
+  // origin) is already a texel of a 1024 px image.
+  const float s01 = static_cast<float>(s - std::floor(s)), t01 = static_cast<float>(t - std::floor(t));
+  texture_system()->texture(OIIO::ustring(path), opt, s01, t01, 0, 0, 0, 0, 3, rgb);
   return {rgb[0], rgb[1], rgb[2]};
 }
 

@@ -52,6 +52,7 @@ constexpr EnumName<LensConvention> kLenses[] = {{LensConvention::opencv, "opencv
 constexpr EnumName<RecordReading> kReadings[] = {{RecordReading::outcome, "outcome"},
                                                   {RecordReading::seed_distance, "seed_distance"},
                                                   {RecordReading::seed_infinity, "seed_infinity"}};
+constexpr EnumName<Coordinates> kCoordinates[] = {{Coordinates::world, "world"}, {Coordinates::camera, "camera"}};
 constexpr EnumName<OutputTransfer> kTransfers[] = {{OutputTransfer::srgb, "srgb"}, {OutputTransfer::linear, "linear"}};
 constexpr EnumName<CameraPose> kCameraPoses[] = {{CameraPose::look_at, "look_at"}, {CameraPose::orbit, "orbit"}};
 constexpr EnumName<LightType> kLightTypes[] = {{LightType::point, "point"}, {LightType::directional, "directional"}};
@@ -245,6 +246,7 @@ const std::vector<Field<Scene>>& settings() {
       bool_field<Scene>("normal_eps_scaled", MEMBER(Scene, march.normal_eps_scaled)),
       {"precision", [](const Scene& s) { return json(enum_name(kPrecisions, s.march.precision)); }, set_precision},
       enum_field<Scene>("reading", kReadings, MEMBER(Scene, march.reading)),
+      enum_field<Scene>("coordinates", kCoordinates, MEMBER(Scene, march.coordinates)),
       // Overrides for every light at once.
       {"shadow", nullptr,
        [](Scene& s, const json& v, const std::string& w) {
@@ -700,6 +702,19 @@ Scene scaled_to_width(const Scene& scene, int width) {
   if (small.camera.cx >= 0) small.camera.cx *= k;
   if (small.camera.cy >= 0) small.camera.cy *= k;
   return small;
+}
+
+Scene moved_by(const Scene& scene, glm::dvec3 offset) {
+  Scene out = scene;
+  out.root = translate(offset, scene.root);
+  if (scene.intended) out.intended = translate(offset, *scene.intended);
+  for (auto& mesh : out.meshes)
+    for (auto& v : mesh.vertices) v += offset;
+  out.camera.position += offset;
+  out.camera.target += offset;
+  for (auto& light : out.lights) light.position += offset;  // a directional light's position is unused
+  for (auto& m : out.materials) m.texture_origin += offset;
+  return out;
 }
 
 std::optional<glm::dvec3> ramp_color(const Scene& scene, const Material& material) {

@@ -80,8 +80,10 @@ Tape compile(const Node& root, double time) {
   return c.finish();
 }
 
-Tape compile(const Scene& scene) {
-  Tape tape = compile(scene.root, scene.time);
+Tape compile(const Scene& scene) { return compile(scene, scene.root); }
+
+Tape compile(const Scene& scene, const Node& root) {
+  Tape tape = compile(root, scene.time);
   tape.half = scene.march.precision == Precision::float16;
   return tape;
 }

@@ -232,13 +232,7 @@ TEST(SeedScenes, LeeSphereTextureTurnsAboutTheSpheresCentre) {
   sdf::Scene s = sdf::builtin_scene("lee-textured");
   s.width = 160, s.height = 90;
   s.camera.fx = s.camera.fy = 75;
-  const glm::dvec3 offset(5, 0, 10);
-  sdf::Scene moved = s;
-  moved.root = sdf::translate(offset, moved.root);
-  moved.camera.target += offset;
-  moved.lights[0].position += offset;
-  moved.materials[0].texture_origin += offset;
-  const RenderResult a = render(s, {Aov::id}), b = render(moved, {Aov::id});
+  const RenderResult a = render(s, {Aov::id}), b = render(sdf::moved_by(s, {5, 0, 10}), {Aov::id});
   double worst = 0;
   int sphere = 0;
   for (int y = 0; y < s.height; ++y)

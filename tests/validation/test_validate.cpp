@@ -66,6 +66,24 @@ TEST(CorrectScenes, PassEveryCheck) {
   }
 }
 
+// Validation judges what the renderer draws at any distance from the origin: moved 1e6 away (float's spacing there
+// is 0.0625), lee-textured and crum-smooth in camera coordinates pass every check, because the march's rounding is
+// judged at the magnitude of its own coordinates (|p - eye|, not |p|: at |p| = 1e6 a reference shadow ray would
+// start 0.1 off the surface and miss contact shadows) and the reference render asks its oracle in world
+// coordinates. In world coordinates, as a shader computes, both fail. Broken variants: the reference's shadow lift
+// from the world point (validate-shadow-lift-world: lee-textured's false shadows, 1.2%), the reference render's
+// oracle asked at the march's coordinates (march-oracle-in-march-coordinates).
+TEST(CorrectScenes, PassEveryCheckFarFromTheOriginInCameraCoordinates) {
+  for (const char* name : {"lee-textured", "crum-smooth"}) {
+    sdf::Scene far = sdf::moved_by(sdf::builtin_scene(name), {1e6, 2e5, -1e6});
+    far.march.coordinates = sdf::Coordinates::camera;
+    const SceneResult r = validate_scene(far);
+    for (const auto& c : r.checks) EXPECT_TRUE(c.pass) << name << ": " << c.name << " = " << c.value << " > " << c.limit;
+    far.march.coordinates = sdf::Coordinates::world;
+    EXPECT_FALSE(validate_scene(far).pass()) << name;
+  }
+}
+
 TEST(Limits, SceneLimitsReplaceDefaultsAndSayWhose) {
   sdf::Scene s = sdf::builtin_scene("fogerty-defect-steps");
   EXPECT_FALSE(validate_scene(s).pass());

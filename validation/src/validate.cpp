@@ -1,5 +1,7 @@
 #include "marchcheck/validation/validate.hpp"
 
+#include "marchcheck/march/camera_relative.hpp"
+
 #include "marchcheck/march/camera.hpp"
 #include "marchcheck/march/effects.hpp"
 #include "marchcheck/march/render.hpp"
@@ -90,36 +92,39 @@ bool is_exact_outside(const sdf::Node& n, double time) {
 template <class T>
 Subject subject_in(const sdf::Scene& scene) {
   using V = glm::vec<3, T>;
-  const auto tape = std::make_shared<const sdf::Tape>(sdf::compile(scene));
+  // Points and ray origins come in world coordinates; the march measures them from origin (in double).
+  const dvec3 origin = march::march_origin(scene);
+  const auto tape = std::make_shared<const sdf::Tape>(march::march_tape(scene, origin));
   const sdf::FieldInfo info = sdf::derive_info(scene.root, scene.time);
   const auto ctx = std::make_shared<const march::MarchContext>(
       march::march_context(march::Camera(scene.camera, scene.width, scene.height), info.lipschitz));
   const march::TapeField field{tape.get()};
   const sdf::MarchSettings settings = scene.march;
   Subject s;
-  s.field = [tape](dvec3 p) { return sdf::evaluate(*tape, p); };
-  s.marched_field = [tape](dvec3 p) { return static_cast<double>(sdf::evaluate(*tape, V(p))); };
-  s.march = [tape, ctx, field, settings](dvec3 o, dvec3 d) {
-    const auto r = march::march<T>(field, V(o), V(d), settings, *ctx);
+  s.field = [tape, origin](dvec3 p) { return sdf::evaluate(*tape, p - origin); };
+  s.marched_field = [tape, origin](dvec3 p) { return static_cast<double>(sdf::evaluate(*tape, V(p - origin))); };
+  s.march = [tape, ctx, field, settings, origin](dvec3 o, dvec3 d) {
+    const auto r = march::march<T>(field, V(o - origin), V(d), settings, *ctx);
     const auto read = march::as_read(r, settings);  // as the seed's consumer reads it
     MarchedRay m{read.outcome, static_cast<double>(read.t), r.evals, std::nullopt};
     // Its outcome known only from a sentinel distance: a miss returned as 0, an unfinished ray as where it stopped.
     m.sentinel = settings.reading != sdf::RecordReading::outcome && r.outcome != Outcome::hit;
     return m;
   };
-  s.normal = [tape, field, settings](dvec3 p, double t) {
+  s.normal = [tape, field, settings, origin](dvec3 p, double t) {
     const T eps = T(settings.normal_eps_scaled ? settings.normal_eps * t : settings.normal_eps);
-    return dvec3(march::estimate_normal(field, V(p), settings.normal, eps).n);
+    return dvec3(march::estimate_normal(field, V(p - origin), settings.normal, eps).n);
   };
-  s.visibility = [tape, ctx, field, settings](dvec3 p, dvec3 n, dvec3 to_light, double dist, double t,
-                                              const sdf::Light& light) {
-    return static_cast<double>(march::shadow_visibility<T>(field, V(p), V(n), V(to_light), static_cast<T>(dist),
+  s.visibility = [tape, ctx, field, settings, origin](dvec3 p, dvec3 n, dvec3 to_light, double dist, double t,
+                                                      const sdf::Light& light) {
+    return static_cast<double>(march::shadow_visibility<T>(field, V(p - origin), V(n), V(to_light), static_cast<T>(dist),
                                                            static_cast<T>(t), light, settings, *ctx)
                                    .visibility);
   };
   s.declared = info;
   s.exact_outside = is_exact_outside(scene.root, scene.time);
   s.unit_roundoff = std::numeric_limits<T>::epsilon();
+  s.origin = origin;
   return s;
 }
 
@@ -355,7 +360,8 @@ struct HitJudge {
     probe_nearest(j.ref, p_m, {rh.hit ? -rh.normal : dvec3(0), n_m ? -*n_m : dvec3(0)}, near);
     double upper = near.distance;
     // Rounding of the hit point itself is allowed on top of the threshold.
-    const double rounding = march::tolerance::hit_point_rounding(j.subject.unit_roundoff, r.ray.origin, t_m);
+    const double rounding =
+        march::tolerance::hit_point_rounding(j.subject.unit_roundoff, r.ray.origin - j.subject.origin, t_m);
     const double allowed = eps_m * r.len + rounding + j.ref.t_error_bound(rh.t);
     // Within the solid but no farther past the first surface than the hit point's float rounding: rounded
     // across the surface (t's own ulp at t = 100 is 8e-6), not a step through it. A marcher that stops on either
@@ -439,7 +445,7 @@ struct ShadowJudge {
       const dvec3 to_light = point ? glm::normalize(lp - p_r) : -glm::normalize(light.direction);
       const double dist = point ? glm::length(lp - p_r) : j.max_dist;
       if (glm::dot(to_light, r.rh.normal) < 0.05) continue;  // at or past the terminator: self-shadowed either way
-      const dvec3 start = p_r + r.rh.normal * march::tolerance::shadow_lift(p_r);
+      const dvec3 start = p_r + r.rh.normal * march::tolerance::shadow_lift(p_r - j.subject.origin);
       const bool lit = !j.ref.first_hit(start, to_light, dist).hit;
       const double edge_band = march::tolerance::shadow_edge_band(h.eps_m * r.len, dist);
       if (shadow_edge(j, start, to_light, r.rh.normal, dist, edge_band, lit)) continue;
@@ -675,19 +681,22 @@ ImagePair render_image_pair(const sdf::Scene& scene, int width, const std::vecto
   const Reference ref(scene.intended ? *scene.intended : scene.root, scene.time);
   const march::SurfaceOracle oracle = oracle_of(ref);
   ImagePair pair{march::render(small, marched_aovs), march::render(small, {}, &oracle), {}};
-  pair.difference = march::Image(small.width, small.height, 1);
-  for (size_t i = 0; i < pair.difference.pixels.size(); ++i) {
+  pair.difference = color_difference(pair.marched.color, pair.reference.color);
+  return pair;
+}
+
+march::Image color_difference(const march::Image& marched, const march::Image& reference) {
+  march::Image difference(marched.width, marched.height, 1);
+  for (size_t i = 0; i < difference.pixels.size(); ++i) {
     float worst = 0;
     for (size_t c = 0; c < 3; ++c) {
-      const float marched = pair.marched.color.pixels[3 * i + c];
-      // A NaN or infinite colour (the lee seed's shaded miss) is as far from the reference as a colour can be.
-      if (!std::isfinite(marched)) worst = std::numeric_limits<float>::infinity();
-      worst = std::max(worst, std::abs(std::clamp(marched, 0.f, 1.f) -
-                                       std::clamp(pair.reference.color.pixels[3 * i + c], 0.f, 1.f)));
+      const float m = marched.pixels[3 * i + c];
+      if (!std::isfinite(m)) worst = std::numeric_limits<float>::infinity();
+      worst = std::max(worst, std::abs(std::clamp(m, 0.f, 1.f) - std::clamp(reference.pixels[3 * i + c], 0.f, 1.f)));
     }
-    pair.difference.pixels[i] = worst;
+    difference.pixels[i] = worst;
   }
-  return pair;
+  return difference;
 }
 
 march::SurfaceOracle oracle_of(const Reference& ref) {

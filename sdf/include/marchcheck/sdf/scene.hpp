@@ -34,6 +34,10 @@ enum class Precision { float32, float64, float16 };
 // seed_infinity: the lee seed's, whose miss returns +inf and is shaded anyway at ro + inf rd: the pixel's colour
 // is NaN (black on llvmpipe, anything on another driver).
 enum class RecordReading { outcome, seed_distance, seed_infinity };
+// What the march's positions are measured from. world: the origin, as a shader computes them (float's spacing
+// grows with the distance from it). camera: the eye, the scene rewritten about it in double before anything is
+// rounded (march::camera_relative), so a scene far from the origin keeps float's precision near the camera.
+enum class Coordinates { world, camera };
 
 // The over-relaxation factors a relaxed march takes: [1, 2). At 2 the relaxed step's fallback test (two
 // unbounding spheres that must overlap) no longer holds. Scene files and --set refuse others; a march given one
@@ -55,6 +59,7 @@ struct MarchSettings {
   bool normal_eps_scaled = false;  // normal_eps * t instead of an absolute epsilon
   Precision precision = Precision::float32;
   RecordReading reading = RecordReading::outcome;
+  Coordinates coordinates = Coordinates::world;
 };
 
 enum class SpecularModel { none, phong, blinn };
@@ -227,5 +232,8 @@ std::optional<glm::dvec3> ramp_color(const Scene& scene, const Material& materia
 void apply_setting(Scene& scene, std::string_view key, std::string_view value);
 // The same view at another width (height in proportion, intrinsics scaled with it), for cheaper renders.
 Scene scaled_to_width(const Scene& scene, int width);
+// The same scene moved by offset with everything placed in it (its trees, meshes, camera, point lights and the
+// textures' origins), in double: what a far-coordinate study renders.
+Scene moved_by(const Scene& scene, glm::dvec3 offset);
 
 }  // namespace marchcheck::sdf

@@ -63,8 +63,9 @@ struct CompileError : std::runtime_error {
 // Throws CompileError when the tree is invalid or needs deeper stacks than the fixed ones.
 Tape compile(const Node& root, double time = 0.0);
 struct Scene;
-// The scene's tree at its time, in its precision (half: the tape's float evaluations in binary16).
+// The scene's tree (or root, one made from it) at its time, in its precision (half: float evaluations in binary16).
 Tape compile(const Scene& scene);
+Tape compile(const Scene& scene, const Node& root);
 
 template <class T>
 struct Sample {

@@ -32,6 +32,9 @@ struct ImagePair {
   march::Image difference;  // one channel: the largest colour-channel difference, colours clamped to [0, 1]
 };
 ImagePair render_image_pair(const sdf::Scene& scene, int width, const std::vector<march::Aov>& marched_aovs = {});
+// ImagePair::difference of two colour images of one size: a NaN or infinite colour of `marched` (the lee seed's
+// shaded miss) is infinitely far from any.
+march::Image color_difference(const march::Image& marched, const march::Image& reference);
 
 struct SceneResult {
   std::string scene;
@@ -107,6 +110,8 @@ struct Subject {
   sdf::FieldInfo declared;     // the kind and Lipschitz bound the field claims
   bool exact_outside = false;  // the field promises the true distance outside its solid (hits within hit_eps)
   double unit_roundoff = 0;    // of the march's arithmetic: how far rounding may move a hit point, per unit
+  // What the march measures positions from (march::march_origin): its rounding grows with |p - origin|.
+  glm::dvec3 origin{0};
   // The marcher stops where |f| < the threshold, inside the solid too (a user's marcher, as tutorials write it):
   // a hit no farther past the surface than the threshold is a hit, not a step through it.
   bool stops_either_side = false;
