@@ -53,7 +53,8 @@ TEST(DefaultLimits, AreTheStatedValues) {
       {"shadow.false_shadow", 0.002}, {"shadow.false_lit", 0.002},
       {"march.over_max_steps", 0},   {"normal.length_err_max", 1e-4}, {"march.sentinel_t", 0},
       {"sdf.lipschitz_over_declared", 1.001}, {"march.safe_step_ratio", 1.001},
-      {"sdf.overestimate_max", 1e-6}, {"sdf.overestimate_marched_max", 1e-6}, {"image.pixels_over", 0.02},
+      {"sdf.overestimate_max", 1e-6}, {"sdf.overestimate_marched_max", 1e-6}, {"sdf.precision_gap_max", 0},
+      {"image.pixels_over", 0.02},
       {"camera.fov_err_deg", 1e-6},  {"camera.ray_norm_err", 1e-6}, {"image.nan_pixels", 0},
       {"sdf.lipschitz_certified_over_declared", 1.001}, {"reference.undecidable", 0.01},
   };

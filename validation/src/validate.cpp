@@ -56,7 +56,11 @@ const std::vector<DefaultLimit>& default_limits() {
       {"sdf.overestimate_max", 1e-6, "largest |f|/L minus the true distance's upper bound (> 0: not a bound)"},
       {"sdf.overestimate_marched_max", 1e-6,
        "the same for the field in the march's arithmetic beside the surface, past that arithmetic's rounding of the "
-       "point (16 unit roundoffs of 1 + |p|)"},
+       "point (16 unit roundoffs of 1 + |p|, p measured as the march measures it)"},
+      {"sdf.precision_gap_max", 0,
+       "largest |f in the march's arithmetic - f in double| at the visible surface points, past that arithmetic's "
+       "rounding of the point (16 unit roundoffs of 1 + |p| times the declared Lipschitz constant): a field that is "
+       "another function in the march's precision (a height field's height difference, float against double)"},
       {"image.pixels_over", 0.02, "fraction of pixels whose colour differs from the reference render by > 0.1",
        false},
       {"image.nan_pixels", 0,
@@ -498,6 +502,8 @@ void judge_field(Judging& j, const std::vector<std::pair<dvec3, double>>& surfac
   std::uniform_real_distribution<double> u(0, 1);
   const auto field = [&j](dvec3 p) { return j.subject.field(p); };
   double lipschitz = 0, overestimate = -INFINITY, marched_overestimate = -INFINITY, estimate_ratio = 0;
+  // How far the march's arithmetic may move p by rounding it: 16 unit roundoffs of its coordinates' magnitude.
+  const auto rounding_of = [&j](dvec3 p) { return 16 * j.subject.unit_roundoff * (1 + glm::length(p - j.subject.origin)); };
   // The field against the reference's upper bound of the distance at p (f = field(p)), only where that reference is
   // exact; and in the march's arithmetic, past its rounding of p. The gradient's step: 1e-6 of the sample's scale.
   const auto bound_at = [&](dvec3 p, double f, double scale) {
@@ -522,14 +528,24 @@ void judge_field(Judging& j, const std::vector<std::pair<dvec3, double>>& surfac
     j.offenders.largest("sdf.overestimate_max", over, [&] { return text("f", f); });
     if (!j.subject.marched_field) return;
     const double fm = j.subject.marched_field(p);
-    const double rounding = 16 * j.subject.unit_roundoff * (1 + glm::length(p));
-    const double over_m = std::abs(fm) / j.declared - near.distance - rounding;
+    const double over_m = std::abs(fm) / j.declared - near.distance - rounding_of(p);
     marched_overestimate = std::max(marched_overestimate, over_m);
     j.offenders.largest("sdf.overestimate_marched_max", over_m, [&] { return text("f in the march's arithmetic", fm); });
   };
+  double precision_gap = -INFINITY;
   const size_t stride = std::max<size_t>(1, surface_points.size() / 300);
   for (size_t k = 0; k < surface_points.size(); k += stride) {
     const auto [p0, t0] = surface_points[k];
+    if (j.subject.marched_field) {
+      const double gap = std::abs(j.subject.marched_field(p0) - field(p0)) - rounding_of(p0) * std::max(1.0, j.declared);
+      precision_gap = std::max(precision_gap, gap);
+      j.offenders.largest("sdf.precision_gap_max", gap, [&] {
+        std::ostringstream out;
+        out << std::setprecision(6) << "at " << vec_text(p0) << ": f in the march's arithmetic "
+            << j.subject.marched_field(p0) << ", in double " << field(p0);
+        return out.str();
+      });
+    }
     const double scale = 0.05 * (1 + t0);
     for (int rep = 0; rep < 8; ++rep) {
       const dvec3 p = p0 + glm::normalize(dvec3(g(rng), g(rng), g(rng))) * (scale * u(rng));
@@ -558,6 +574,7 @@ void judge_field(Judging& j, const std::vector<std::pair<dvec3, double>>& surfac
     }
   }
   m["sdf.lipschitz_measured"] = lipschitz;
+  if (std::isfinite(precision_gap)) m["sdf.precision_gap_max"] = precision_gap;
   if (j.estimate) {
     // Nothing declared to contradict: how far the estimate exceeds the distance to the set is reported.
     m["sdf.estimate_over_distance_max"] = estimate_ratio;

@@ -5,6 +5,7 @@
 #include "marchcheck/march/camera_relative.hpp"
 #include "marchcheck/march/normals.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
+#include "marchcheck/sdf/noise.hpp"
 #include "marchcheck/validation/reference.hpp"
 #include "marchcheck/validation/validate.hpp"
 
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <span>
 #include <string>
 #include <utility>
 
@@ -172,6 +174,55 @@ void far_render(Run& r, const StabilityOptions&) {
   }
 }
 
+// ---- far coordinates in a height field's hash ----
+
+// lee-terrain's height field in float against double at points on circles of radius R about the origin (its
+// height is -f at y = 0): the largest difference, the terrain's own height gap between the precisions.
+double height_gap(const sdf::Tape& terrain, double radius) {
+  double gap = 0;
+  for (int i = 0; i < 64; ++i) {
+    const double a = 2 * kPi * i / 64;
+    const dvec3 p(radius * std::cos(a), 0, radius * std::sin(a));
+    gap = std::max(gap, std::abs(double(sdf::evaluate(terrain, vec3(p))) - sdf::evaluate(terrain, p)));
+  }
+  return gap;
+}
+
+// The splitmix hash (lee-terrain's fix) is the same function in both precisions: its float terrain is double's
+// within the rounding of the point, 16 unit roundoffs of 1 + R times the field's Lipschitz bound. The seed's sin
+// hash is not (sin of |c| 55, times 43758, keeps a few digits in float): beside it, how far from the origin its
+// gap first reaches 1e-3, 1e-2 and 1e-1 of the terrain's 0.56 amplitude (radii 0.1 to 1e5 in quarter decades).
+// Measured: splitmix 6e-9 at radius 0.1 to 6.3e-4 at 1e5 (the point's own rounding); the sin hash reaches 1e-3
+// at radius 0.18, 1e-2 at 1 and 1e-1 at 5.6 (its first lattice cells off the origin), and is another terrain,
+// 0.3 to 0.4 apart, from 10 on.
+void far_terrain_hash(Run& r, const StabilityOptions&) {
+  const sdf::Scene lee = sdf::builtin_scene("lee-terrain");
+  const sdf::Node& ground = lee.root.children[1].children[0];  // under translate(0, -1.2, 0)
+  const std::span<const double> octaves = ground.param("octaves");
+  const auto terrain = [&](sdf::NoiseHash hash) {
+    return sdf::make(sdf::Op::heightfield, {{"hash", {static_cast<double>(hash)}},
+                                           {"octaves", std::vector<double>(octaves.begin(), octaves.end())}});
+  };
+  const sdf::Node fixed = terrain(r.naive() ? sdf::NoiseHash::seed_sin : sdf::NoiseHash::splitmix);
+  const sdf::Tape fixed_tape = sdf::compile(fixed), seed_tape = sdf::compile(terrain(sdf::NoiseHash::seed_sin));
+  const double lipschitz = sdf::derive_info(fixed).lipschitz, u = std::numeric_limits<float>::epsilon();
+  std::map<double, double> reach = {{1e-3, 0}, {1e-2, 0}, {1e-1, 0}};  // gap size: first radius reaching it
+  for (int k = -4; k <= 20; ++k) {
+    const double radius = std::pow(10.0, k / 4.0);
+    const double seed_gap = height_gap(seed_tape, radius);
+    for (auto& [size, at] : reach)
+      if (at == 0 && seed_gap >= size) at = radius;
+    if (k % 4 != 0) continue;  // the decades: the fixed hash's clause and both gaps
+    const double gap = height_gap(fixed_tape, radius);
+    const double rounding = 16 * u * (r.as("rounding_at_origin") ? 1 : 1 + radius) * lipschitz;
+    r.m["splitmix." + decade(radius) + ".height_gap"] = gap;
+    r.m["seed_sin." + decade(radius) + ".height_gap"] = seed_gap;
+    r.require("height", gap <= rounding,
+              "height gap " + num(gap) + " at radius " + num(radius) + ", past the rounding " + num(rounding));
+  }
+  for (const auto& [size, at] : reach) r.m["seed_sin.reach_" + decade(size)] = at;
+}
+
 // ---- scales from 1e-8 to 1e8 ----
 
 // A sphere of radius S seen from 4 S: rays through its inner disk must hit within the threshold, rays past its
@@ -264,6 +315,13 @@ void add_far_and_scale_cases(Battery& b) {
         {{"naive", "", "world coordinates, as a shader computes"},
          {"placement_rounded", "pixels", "the scene placed off its camera by float's rounding (2^-24 of the offset)"}},
         far_render);
+  b.add("far.terrain_hash",
+        "lee-terrain's height field in float against double on circles of radius 1..1e5 about the origin; the "
+        "seed's sin hash beside it (how far out its gap reaches 1e-3 and 1e-2)",
+        "the splitmix hash's float heights within 16 unit roundoffs of (1 + radius) times L of double's",
+        {{"naive", "", "the seed's sin hash"},
+         {"rounding_at_origin", "height", "the rounding allowed as at the origin, whatever the radius"}},
+        far_terrain_hash);
   b.add("far.double", "world-coordinate double at offsets 1e1..1e7; float's error growth and breakdown beside it",
         "double: every ray within hit_eps / cos + 1e-5 and 1 degree",
         plus({{"naive", "", "float in place of double"}}, far_variants("double")), far_double);
