@@ -11,8 +11,7 @@ namespace {
 
 constexpr int kMaxPacket = 256;  // rays in flight at once: one render tile
 
-// The state of a packet of sphere-traced rays (sphere and scaled marchers: no relaxation) as structure of
-// arrays, so that the bookkeeping of a step, not only the evaluation, runs as vectorised loops. Rays that end
+// The state of a packet of sphere-traced rays (sphere, scaled and relaxed marchers) as structure of arrays, so that the bookkeeping of a step, not only the evaluation, runs as vectorised loops. Rays that end
 // stay in place, masked, until half the packet has ended; then the packet is compacted (at a quarter, an eighth,
 // or 16 lanes, lee-flat rendered 1-5% slower: compaction costs more than masked lanes).
 // Integers as wide as T, so a loop mixing them with T vectorises.
@@ -24,17 +23,20 @@ struct Lanes {
   alignas(64) T ox[kMaxPacket], oy[kMaxPacket], oz[kMaxPacket], dx[kMaxPacket], dy[kMaxPacket], dz[kMaxPacket];
   alignas(64) T t[kMaxPacket], max_dist[kMaxPacket], min_abs[kMaxPacket], t_at_min[kMaxPacket], last_abs[kMaxPacket];
   alignas(64) Int<T> steps[kMaxPacket], code[kMaxPacket], id[kMaxPacket];
+  // The relaxed marcher's own: its factor (1 once it stepped back) and the last forward step's start, f and length.
+  alignas(64) T omega[kMaxPacket], prev_t[kMaxPacket], prev_f[kMaxPacket], prev_step[kMaxPacket];
   // Scratch of one step (never compacted): the points and the field's values there.
   alignas(64) T x[kMaxPacket], y[kMaxPacket], z[kMaxPacket], f[kMaxPacket];
 };
 
 constexpr int kRunning = -1;  // else the Outcome
 
-// SphereTrace::feed for every lane at once, for omega = 1; the same expressions in the same order. All lanes of a
+// SphereTrace::feed for every lane at once (Relaxed: with its over-relaxation and step back, else omega = 1); the
+// same expressions in the same order. All lanes of a
 // packet start together, so a running lane's step count is the packet's: `step` (this evaluation's number).
 // A lane's code, steps and last |f| change only when it ends (so compaction need not move them for running
 // lanes). Returns the number of lanes still running.
-template <bool First, class T>
+template <bool First, bool Relaxed, class T>
 int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slope, int max_steps) {
   using I = Int<T>;
   const T largest = std::numeric_limits<T>::max();
@@ -45,10 +47,18 @@ int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slop
   for (int i = 0; i < count; ++i) {
     const T v = l.f[i], t = l.t[i], a = std::abs(v);
     const T eps = eps_at_0 + eps_slope * t;  // hit_threshold: each mode is a + b t with an exact zero term
-    const T next = t + v * scale;
-    I code = next > l.max_dist[i] ? miss_far : out_of_steps;
+    // Relaxed: where the two unbounding spheres do not overlap, back to the last forward step's start, then omega 1.
+    bool back = false;
+    T forward_step = v * scale, next = t + forward_step;
+    if constexpr (Relaxed) {
+      const T omega = l.omega[i], prev_f = l.prev_f[i];
+      back = omega > T(1) && a + prev_f < l.prev_step[i];
+      forward_step = v * omega * scale;
+      next = back ? l.prev_t[i] + prev_f * scale : t + forward_step;
+    }
+    I code = !back && next > l.max_dist[i] ? miss_far : out_of_steps;
     const I moved = code;  // t moves on unless the step below ends the ray where it is
-    code = v < eps ? hit : code;
+    code = !back && v < eps ? hit : code;
     if constexpr (First) code = v < -eps ? inside : code;
     code = a <= largest ? code : invalid;  // not finite
     // Every array is stored whole, a blend of its old and new values: GCC turns `a[i] = c ? x : a[i]` into a
@@ -69,6 +79,14 @@ int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slop
     l.steps[i] = steps_now;
     l.last_abs[i] = last;
     l.code[i] = code;
+    if constexpr (Relaxed) {
+      const bool forward = live && code == moved && !back;  // a step taken: the next one's fallback
+      const T prev_f = l.prev_f[i];
+      l.omega[i] = back ? T(1) : l.omega[i];
+      l.prev_step[i] = back ? prev_f * scale : forward ? forward_step : l.prev_step[i];
+      l.prev_t[i] = forward ? t : l.prev_t[i];
+      l.prev_f[i] = forward ? v : prev_f;
+    }
     still += code == running;
   }
   return static_cast<int>(still);
@@ -76,7 +94,7 @@ int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slop
 
 // Writes the records of the lanes that ended and packs the running ones to the front; returns their count.
 // Branch-free index lists first, then one plain loop per array: a lane's fate is not predictable.
-template <class T>
+template <bool Relaxed, class T>
 int compact(Lanes<T>& l, int count, RayRecord<T>* records) {
   int keep[kMaxPacket], ended[kMaxPacket];
   int kept = 0, done = 0;
@@ -103,13 +121,16 @@ int compact(Lanes<T>& l, int count, RayRecord<T>* records) {
   // A running lane's steps and last |f| are not kept yet (feed_lanes), and its code is kRunning.
   for (T* a : {l.ox, l.oy, l.oz, l.dx, l.dy, l.dz, l.t, l.max_dist, l.min_abs, l.t_at_min})
     for (int k = first; k < kept; ++k) a[k] = a[keep[k]];
+  if constexpr (Relaxed)
+    for (T* a : {l.omega, l.prev_t, l.prev_f, l.prev_step})
+      for (int k = first; k < kept; ++k) a[k] = a[keep[k]];
   for (int k = first; k < kept; ++k) l.id[k] = l.id[keep[k]];
   std::fill_n(l.code + first, kept - first, Int<T>(kRunning));
   return kept;
 }
 
-// Marches rays[ids[i]] into records[ids[i]], i < n <= kMaxPacket, for the sphere and scaled marchers.
-template <class T>
+// Marches rays[ids[i]] into records[ids[i]], i < n <= kMaxPacket, for the sphere, scaled and relaxed marchers.
+template <bool Relaxed, class T>
 void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids, int n, RayRecord<T>* records,
                  const MarchSettings& s, const MarchContext& c) {
   Lanes<T> l;
@@ -129,6 +150,12 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
   std::fill_n(l.last_abs, n, std::numeric_limits<T>::infinity());
   std::fill_n(l.t_at_min, n, T(0));
   std::fill_n(l.code, n, Int<T>(kRunning));
+  if constexpr (Relaxed) {
+    std::fill_n(l.omega, n, T(s.relaxation));
+    std::fill_n(l.prev_t, n, T(0));
+    std::fill_n(l.prev_f, n, T(0));
+    std::fill_n(l.prev_step, n, T(0));
+  }
   const T scale = SphereTrace<T>(s, c, T(0), T(0)).scale();
   const T eps_at_0 = s.eps_mode == EpsMode::absolute ? T(s.hit_eps)
                      : s.eps_mode == EpsMode::pixel  ? T(c.footprint_at_0)
@@ -146,46 +173,9 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
     }
     for (int b = 0; b < count; b += sdf::kBatch)
       sdf::evaluate_batch(tape, l.x + b, l.y + b, l.z + b, l.f + b, std::min(sdf::kBatch, count - b));
-    const int running = step == 1 ? feed_lanes<true>(l, count, step, scale, eps_at_0, eps_slope, s.max_steps)
-                                  : feed_lanes<false>(l, count, step, scale, eps_at_0, eps_slope, s.max_steps);
-    if (running == 0 || running < count / 2) count = compact(l, count, records);
-  }
-}
-
-// Marches rays[ids[i]] into records[ids[i]], i < n <= kMaxPacket, for the relaxed marcher: each ray's own
-// SphereTrace, fed from shared batches.
-template <class T>
-void march_relaxed(const sdf::Tape& tape, const PacketRay<T>* rays, int* ids, int n, RayRecord<T>* records,
-                   const MarchSettings& s, const MarchContext& c) {
-  SphereTrace<T> traces[kMaxPacket];
-  for (int i = 0; i < n; ++i) traces[ids[i]] = SphereTrace<T>(s, c, T(0), static_cast<T>(rays[ids[i]].max_dist));
-  int count = n;
-  for (int step = 1; count > 0; ++step) {
-    int still = 0;  // compacts ids in place: still <= the index read
-    for (int b = 0; b < count; b += sdf::kBatch) {
-      const int k = std::min(sdf::kBatch, count - b);
-      alignas(64) T x[sdf::kBatch], y[sdf::kBatch], z[sdf::kBatch], f[sdf::kBatch];
-      for (int j = 0; j < k; ++j) {
-        const PacketRay<T>& ray = rays[ids[b + j]];
-        const T t = traces[ids[b + j]].t();
-        // As march(): origin + direction * t.
-        const glm::vec<3, T> p = ray.origin + ray.direction * t;
-        x[j] = p.x;
-        y[j] = p.y;
-        z[j] = p.z;
-      }
-      sdf::evaluate_batch(tape, x, y, z, f, k);
-      for (int j = 0; j < k; ++j) {
-        const int i = ids[b + j];
-        traces[i].feed(f[j]);
-        if (traces[i].done()) {
-          records[i] = traces[i].record();
-        } else {
-          ids[still++] = i;
-        }
-      }
-    }
-    count = still;
+    const int running = step == 1 ? feed_lanes<true, Relaxed>(l, count, step, scale, eps_at_0, eps_slope, s.max_steps)
+                                  : feed_lanes<false, Relaxed>(l, count, step, scale, eps_at_0, eps_slope, s.max_steps);
+    if (running == 0 || running < count / 2) count = compact<Relaxed>(l, count, records);
   }
 }
 
@@ -216,9 +206,9 @@ void march_packet(const sdf::Tape& tape, const PacketRay<T>* rays, RayRecord<T>*
       }
     }
     if (s.marcher == Marcher::relaxed) {
-      march_relaxed(tape, rays + base, active, count, records + base, s, c);
+      march_lanes<true>(tape, rays + base, active, count, records + base, s, c);
     } else {
-      march_lanes(tape, rays + base, active, count, records + base, s, c);
+      march_lanes<false>(tape, rays + base, active, count, records + base, s, c);
     }
   }
 }
