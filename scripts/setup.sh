@@ -5,6 +5,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libglm-dev libboost-dev libcgal-dev libopenmesh-dev libgtest-dev libgmock-dev libbenchmark-dev
   libopenimageio-dev openimageio-tools libtbb-dev libembree-dev  # OIIO's CMake package checks its tools exist
+  libpng-dev  # the PNGs renders write, without loading OpenImageIO
   nlohmann-json3-dev libcli11-dev libfmt-dev
   glslang-dev glslang-tools spirv-tools spirv-headers  # GLSL fields; the glslang CMake package checks its tools
   libegl-dev libopengl-dev libgl-dev libgl1-mesa-dri libegl-mesa0  # the GL driver: EGL surfaceless, Mesa llvmpipe

@@ -1,10 +1,9 @@
-// OpenImageIO lives in this file alone: OIIO 2.4 forces its bundled fmt settings on any file that includes it.
 #include "marchcheck/march/render.hpp"
 
+#include "image_module.hpp"
 #include "marchcheck/files/atomic_file.hpp"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
+#include <png.h>
 
 #include <algorithm>
 #include <cmath>
@@ -44,34 +43,67 @@ std::vector<unsigned char> to_8bit(const Image& image, bool srgb) {
   return bytes;
 }
 
+namespace {
+
+bool is_png(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".png";
+}
+
+// 8-bit PNG in memory through libpng: grey, grey and alpha, RGB or RGBA by the channel count; the transfer in a
+// tEXt chunk (marchcheck:transfer) and, for sRGB, the sRGB chunk. Raw values get no gAMA 1.0, which would have a
+// browser brighten them: they are what a shader's framebuffer shows as they are.
+std::vector<unsigned char> encode_png(const Image& image, const std::string& path, const std::vector<unsigned char>& bytes,
+                                      bool srgb) {
+  static constexpr int kColorType[5] = {-1, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
+                                        PNG_COLOR_TYPE_RGBA};
+  if (image.channels < 1 || image.channels > 4)
+    throw std::runtime_error(path + ": a PNG holds 1 to 4 channels, not " + std::to_string(image.channels));
+  std::vector<unsigned char> out;
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!info) {
+    png_destroy_write_struct(&png, nullptr);
+    throw std::runtime_error(path + ": libpng could not start");
+  }
+  if (setjmp(png_jmpbuf(png))) {  // libpng's errors arrive here
+    png_destroy_write_struct(&png, &info);
+    throw std::runtime_error(path + ": libpng could not encode the image");
+  }
+  png_set_write_fn(
+      png, &out,
+      [](png_structp p, png_bytep data, png_size_t n) {
+        auto* buffer = static_cast<std::vector<unsigned char>*>(png_get_io_ptr(p));
+        buffer->insert(buffer->end(), data, data + n);
+      },
+      nullptr);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(image.width), static_cast<png_uint_32>(image.height), 8,
+               kColorType[image.channels], PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  if (srgb) png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+  char key[] = "marchcheck:transfer", srgb_text[] = "srgb", linear_text[] = "linear";
+  png_text text{};
+  text.compression = PNG_TEXT_COMPRESSION_NONE;
+  text.key = key;
+  text.text = srgb ? srgb_text : linear_text;
+  png_set_text(png, info, &text, 1);
+  png_write_info(png, info);
+  const size_t row = static_cast<size_t>(image.width) * static_cast<size_t>(image.channels);
+  for (int y = 0; y < image.height; ++y)
+    png_write_row(png, const_cast<png_bytep>(bytes.data() + static_cast<size_t>(y) * row));
+  png_write_end(png, info);
+  png_destroy_write_struct(&png, &info);
+  return out;
+}
+
+}  // namespace
+
 void write_image(const Image& image, const std::string& path, bool srgb) {
   const bool as_float = is_float_format(path);
-  // Encoded in memory and written by write_bytes_atomically: OIIO's PNG writer reports no failed write (a disk
-  // that fills up), and would leave a truncated image in place.
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) throw std::runtime_error(path + ": no image writer for this extension (" + OIIO::geterror() + ")");
-  if (!out->supports("ioproxy")) throw std::runtime_error(path + ": this image format cannot be written to memory");
-  std::vector<unsigned char> bytes;
-  OIIO::Filesystem::IOVecOutput memory(bytes);
-  OIIO::ImageSpec spec(image.width, image.height, image.channels,
-                       as_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-  if (!as_float) {
-    // Raw values are what a shader's framebuffer shows as they are: no gAMA 1.0 (oiio:ColorSpace "linear"), which
-    // would have a browser brighten them.
-    if (srgb) spec.attribute("oiio:ColorSpace", "sRGB");
-    spec.attribute("marchcheck:transfer", srgb ? "srgb" : "linear");
-  }
-  bool ok = out->set_ioproxy(&memory) && out->open(path, spec);
-  if (ok) {
-    if (as_float) {
-      ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
-    } else {
-      ok = out->write_image(OIIO::TypeDesc::UINT8, to_8bit(image, srgb).data());
-    }
-    ok = out->close() && ok;
-  }
-  if (!ok) throw std::runtime_error(path + ": cannot write the image: " + out->geterror());
-  files::write_bytes_atomically(path, {reinterpret_cast<const char*>(bytes.data()), bytes.size()});
+  const std::vector<unsigned char> bytes = as_float ? std::vector<unsigned char>{} : to_8bit(image, srgb);
+  const std::vector<unsigned char> encoded =
+      is_png(path) ? encode_png(image, path, bytes, srgb) : image_module().encode(image, path, as_float, bytes, srgb);
+  files::write_bytes_atomically(path, {reinterpret_cast<const char*>(encoded.data()), encoded.size()});
 }
 
 Image heat_map(const Image& values, double max_value) {

@@ -3,8 +3,7 @@
 #include "marchcheck/march/render.hpp"
 #include "marchcheck/sdf/noise.hpp"
 
-#include <OpenImageIO/imageio.h>
-#include <OpenImageIO/texture.h>
+#include "image_module.hpp"
 
 #include <filesystem>
 #include <cmath>
@@ -42,16 +41,6 @@ Image make_soil(int size) {
   return img;
 }
 
-OIIO::TextureSystem* texture_system() {
-  static OIIO::TextureSystem* ts = [] {
-    auto* system = OIIO::TextureSystem::create(true);
-    system->attribute("automip", 1);
-    system->attribute("gray_to_rgb", 1);
-    return system;
-  }();
-  return ts;
-}
-
 }  // namespace
 
 const std::string& soil_texture_path() {
@@ -73,23 +62,18 @@ const std::string& texture_path(const sdf::Material& material) {
 void check_texture_files(const sdf::Scene& scene) {
   for (const sdf::Material& m : scene.materials) {
     if (m.texture_file.empty()) continue;
-    const auto in = OIIO::ImageInput::open(m.texture_file);
-    if (!in)
+    if (const std::string why = image_module().unreadable(m.texture_file); !why.empty())
       throw sdf::SceneError("material '" + m.name + "': texture_file '" + m.texture_file +
-                            "': not an image OpenImageIO can read (" + OIIO::geterror() + ")");
+                            "': not an image OpenImageIO can read (" + why + ")");
   }
 }
 
 glm::dvec3 sample_texture(const std::string& path, double s, double t) {
-  OIIO::TextureOpt opt;
-  opt.swrap = opt.twrap = OIIO::TextureOpt::WrapPeriodic;
-  opt.interpmode = OIIO::TextureOpt::InterpBilinear;
-  opt.mipmode = OIIO::TextureOpt::MipModeNoMIP;
-  float rgb[3] = {0, 0, 0};
+  float rgb[3];
   // Wrapped in double first: OpenImageIO takes float coordinates, whose spacing at s = 2e5 (a point 1e6 from the
   // origin) is already a texel of a 1024 px image.
   const float s01 = static_cast<float>(s - std::floor(s)), t01 = static_cast<float>(t - std::floor(t));
-  texture_system()->texture(OIIO::ustring(path), opt, s01, t01, 0, 0, 0, 0, 3, rgb);
+  image_module().sample(path, s01, t01, rgb);
   return {rgb[0], rgb[1], rgb[2]};
 }
 

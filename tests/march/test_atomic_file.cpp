@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <png.h>
+
 #include <unistd.h>
 
 #include <filesystem>
@@ -108,6 +110,73 @@ TEST_F(AtomicFile, AFailedImageWriteKeepsThePreviousImage) {
     EXPECT_EQ(std::string(e.what()).rfind(path("a.nope") + ": no image writer for this extension", 0), 0u) << e.what();
   }
   EXPECT_TRUE(left_as_before(path("a.nope"), before));
+}
+
+// A PNG as libpng reads it back: its 8-bit samples, channel count, transfer text and whether it has an sRGB chunk.
+struct ReadPng {
+  std::vector<unsigned char> samples;
+  int channels = 0;
+  std::string transfer;
+  bool srgb_chunk = false;
+};
+ReadPng read_png(const std::string& path) {
+  ReadPng out;
+  FILE* file = std::fopen(path.c_str(), "rb");
+  if (!file) return out;
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png_create_info_struct(png);
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    std::fclose(file);
+    return {};
+  }
+  png_init_io(png, file);
+  png_read_png(png, info, PNG_TRANSFORM_IDENTITY, nullptr);
+  out.channels = png_get_channels(png, info);
+  const png_bytepp rows = png_get_rows(png, info);
+  const size_t row = png_get_rowbytes(png, info);
+  for (png_uint_32 y = 0; y < png_get_image_height(png, info); ++y) out.samples.insert(out.samples.end(), rows[y], rows[y] + row);
+  png_textp text = nullptr;
+  int count = 0;
+  png_get_text(png, info, &text, &count);
+  for (int i = 0; i < count; ++i)
+    if (std::string(text[i].key) == "marchcheck:transfer") out.transfer = text[i].text;
+  int intent = 0;
+  out.srgb_chunk = png_get_sRGB(png, info, &intent) != 0;
+  png_destroy_read_struct(&png, &info, nullptr);
+  std::fclose(file);
+  return out;
+}
+
+// A PNG holds exactly to_8bit's bytes, for grey, grey and alpha, RGB and RGBA images, with the transfer it was
+// written in (tEXt marchcheck:transfer) and an sRGB chunk only for sRGB. Broken variants: rows written from the
+// wrong offset (march-png-row-stride), the sRGB chunk on raw values too (march-png-srgb-always).
+TEST_F(AtomicFile, APngHoldsTheEightBitBytesAndItsTransfer) {
+  for (int channels = 1; channels <= 4; ++channels)
+    for (const bool srgb : {true, false}) {
+      Image image(5, 3, channels);
+      for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = static_cast<float>(i % 17) / 16;
+      write_image(image, path("c.png"), srgb);
+      const ReadPng back = read_png(path("c.png"));
+      EXPECT_EQ(back.channels, channels);
+      EXPECT_EQ(back.samples, to_8bit(image, srgb)) << channels << " channels, srgb " << srgb;
+      EXPECT_EQ(back.transfer, srgb ? "srgb" : "linear");
+      EXPECT_EQ(back.srgb_chunk, srgb);
+    }
+}
+
+// OpenImageIO is loaded where it is used, not by every command (Debian's build brings ~260 libraries, 160 ms): a
+// PNG is written without it in the process, an EXR brings its module in. Broken variant: march linking OpenImageIO
+// again (its PNGs would then load it at start-up).
+TEST_F(AtomicFile, APngIsWrittenWithoutLoadingOpenImageIO) {
+  const auto loaded = [] {
+    std::ifstream maps("/proc/self/maps");
+    return std::string(std::istreambuf_iterator<char>(maps), {}).find("libOpenImageIO") != std::string::npos;
+  };
+  write_image(Image(4, 4, 3, 0.5f), path("a.png"));
+  EXPECT_FALSE(loaded());
+  write_image(Image(4, 4, 3, 0.5f), path("a.exr"));
+  EXPECT_TRUE(loaded());
 }
 
 // A 1 KiB file-size limit on 4 KiB of bytes: the disk fills after the file was opened and partly written (at
