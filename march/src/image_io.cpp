@@ -80,6 +80,9 @@ std::vector<unsigned char> encode_png(const Image& image, const std::string& pat
       nullptr);
   png_set_IHDR(png, info, static_cast<png_uint_32>(image.width), static_cast<png_uint_32>(image.height), 8,
                kColorType[image.channels], PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  // zlib level 3, not 6: lee-flat at 1280x720 encodes about 18 ms faster (a sixth of the whole command) for a file
+  // of 160 KB instead of 110 KB (level 1: 3 ms more saved, 200 KB).
+  png_set_compression_level(png, 3);
   if (srgb) png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
   char key[] = "marchcheck:transfer", srgb_text[] = "srgb", linear_text[] = "linear";
   png_text text{};
