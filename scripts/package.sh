@@ -16,6 +16,8 @@ DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recomme
 if [ "${1:-}" != "--keep" ]; then trap '$sudo apt-get purge -y -qq marchcheck >/dev/null' EXIT; fi
 marchcheck scenes >/dev/null
 scratch=$(mktemp -d)
+# A texture and an EXR: the installed program finds its OpenImageIO module (libmarchcheck_oiio.so) beside its libraries.
+marchcheck render lee-textured --size 32x18 -o "$scratch/textured.exr" >/dev/null
 cmake -S tests/consumer -B "$scratch" -G Ninja >/dev/null
 cmake --build "$scratch" >/dev/null
 ctest --test-dir "$scratch" --output-on-failure
