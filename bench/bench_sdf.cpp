@@ -1,6 +1,7 @@
 // SDF evaluations per second: lee-flat written by hand in C++, as a compiled tape, and as a tape compiled from
 // the scene's JSON text; then every built-in scene's tape, one point at a time (Tape) and in batches (Batch), on
-// one thread and on all (tasks of 256 points under oneTBB, as the renderer's tiles). Compare "evals/s" of
+// one thread and on all (tasks of 256 points under oneTBB, as the renderer's tiles); or, given scene files
+// (bench_sdf --scene my.json), theirs. Compare "evals/s" of
 // BM_LeeFlatCpp and BM_LeeFlatTape to read what the tape interpreter costs over hand-written code, and
 // BM_LeeFlatGlsl (hand-written GLSL) and BM_LeeFlatExportedGlsl (the built-in exported and imported back) beside
 // BM_LeeFlatTape for what a field imported from GLSL costs.
@@ -17,7 +18,11 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <deque>
+#include <iostream>
+#include <memory>
 #include <random>
+#include <string_view>
 #include <vector>
 
 namespace sdf = marchcheck::sdf;
@@ -29,40 +34,41 @@ constexpr int kPoints = 1 << 14, kTask = 256;
 // The lee-flat field: sphere centre (0, 1.2, 0) radius 1, united with the ground plane y = 0.
 float lee_flat_sdf(glm::vec3 p) { return glm::min(glm::length(p - glm::vec3(0, 1.2f, 0)) - 1.0f, p.y); }
 
-// Points generated once with a fixed seed over the box the scenes live in, so only evaluation is timed.
+// Points generated once with a fixed seed over a box, so only evaluation is timed.
 struct Points {
   std::vector<glm::vec3> p;
   std::vector<float> x, y, z;  // the same, as structure of arrays
 };
+Points points_in(glm::dvec3 lo, glm::dvec3 hi) {
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<double> u(0, 1);
+  Points v;
+  for (int i = 0; i < kPoints; ++i) {
+    v.p.push_back(glm::vec3(lo + (hi - lo) * glm::dvec3(u(rng), u(rng), u(rng))));
+    v.x.push_back(v.p.back().x);
+    v.y.push_back(v.p.back().y);
+    v.z.push_back(v.p.back().z);
+  }
+  return v;
+}
+// The box the built-in scenes live in.
 const Points& points() {
-  static const Points pts = [] {
-    std::mt19937 rng(12345);
-    std::uniform_real_distribution<float> x(-4, 4), y(-1, 3);
-    Points v;
-    for (int i = 0; i < kPoints; ++i) {
-      v.p.push_back({x(rng), y(rng), x(rng)});
-      v.x.push_back(v.p.back().x);
-      v.y.push_back(v.p.back().y);
-      v.z.push_back(v.p.back().z);
-    }
-    return v;
-  }();
+  static const Points pts = points_in({-4, -1, -4}, {4, 3, 4});
   return pts;
 }
 
 template <class F>
 void run_evals(benchmark::State& state, F&& field) {
-  const auto& pts = points();
+  const Points& pts = points();
   for (auto _ : state)
     for (const glm::vec3& p : pts.p) benchmark::DoNotOptimize(field(p));
   state.counters["evals/s"] =
       benchmark::Counter(static_cast<double>(state.iterations() * pts.p.size()), benchmark::Counter::kIsRate);
 }
 
-// Runs eval_range(begin, end, out) over all points in tasks of kTask on state.range(0) threads.
+// Runs eval_range(begin, end, out) over all of pts in tasks of kTask on state.range(0) threads.
 template <class F>
-void run_threaded(benchmark::State& state, F&& eval_range) {
-  const auto& pts = points();
+void run_threaded(benchmark::State& state, const Points& pts, F&& eval_range) {
   std::vector<float> out(pts.p.size());
   tbb::task_arena arena(static_cast<int>(state.range(0)));
   for (auto _ : state) {
@@ -122,35 +128,66 @@ BENCHMARK(BM_LeeFlatJsonTape);
 BENCHMARK(BM_LeeFlatGlsl);
 BENCHMARK(BM_LeeFlatExportedGlsl);
 
-sdf::Tape scene_tape(const std::string& name) {
-  const sdf::Scene scene = sdf::builtin_scene(name);
-  return sdf::compile(scene.root, scene.time);  // time: animated scenes
+// A scene's tape, one point at a time (BM_SceneTape/NAME) and in batches (BM_SceneBatch/NAME), on one thread and
+// on all, at pts. Real time: the threads share one clock.
+void register_scene(const sdf::Scene& scene, const Points& points_of_scene) {
+  const Points* pts = &points_of_scene;  // outlives the run: the built-ins' or main's
+  const auto tape = std::make_shared<const sdf::Tape>(sdf::compile(scene));  // its time and precision
+  const int all = tbb::info::default_concurrency();
+  benchmark::RegisterBenchmark(("BM_SceneTape/" + scene.name).c_str(), [tape, pts](benchmark::State& state) {
+    run_threaded(state, *pts, [&](int begin, int end, float* out) {
+      for (int i = begin; i < end; ++i) out[i] = sdf::evaluate<float>(*tape, pts->p[static_cast<size_t>(i)]);
+    });
+  })->Arg(1)->Arg(all)->ArgName("threads")->UseRealTime();
+  benchmark::RegisterBenchmark(("BM_SceneBatch/" + scene.name).c_str(), [tape, pts](benchmark::State& state) {
+    run_threaded(state, *pts, [&](int begin, int end, float* out) {
+      for (int i = begin; i < end; i += sdf::kBatch) {
+        const auto at = static_cast<size_t>(i);
+        sdf::evaluate_batch(*tape, &pts->x[at], &pts->y[at], &pts->z[at], out + i, std::min(sdf::kBatch, end - i));
+      }
+    });
+  })->Arg(1)->Arg(all)->ArgName("threads")->UseRealTime();
 }
 
-// One benchmark per built-in scene and thread count, registered at start-up so a new scene is measured without
-// editing this file. Real time: the threads share one clock.
-const bool registered = [] {
-  const int all = tbb::info::default_concurrency();
-  for (const std::string& name : sdf::builtin_scene_names()) {
-    benchmark::RegisterBenchmark(("BM_SceneTape/" + name).c_str(), [name](benchmark::State& state) {
-      const sdf::Tape tape = scene_tape(name);
-      const auto& pts = points();
-      run_threaded(state, [&](int begin, int end, float* out) {
-        for (int i = begin; i < end; ++i) out[i] = sdf::evaluate<float>(tape, pts.p[static_cast<size_t>(i)]);
-      });
-    })->Arg(1)->Arg(all)->ArgName("threads")->UseRealTime();
-    benchmark::RegisterBenchmark(("BM_SceneBatch/" + name).c_str(), [name](benchmark::State& state) {
-      const sdf::Tape tape = scene_tape(name);
-      const auto& pts = points();
-      run_threaded(state, [&](int begin, int end, float* out) {
-        for (int i = begin; i < end; i += sdf::kBatch) {
-          const auto at = static_cast<size_t>(i);
-          sdf::evaluate_batch(tape, &pts.x[at], &pts.y[at], &pts.z[at], out + i, std::min(sdf::kBatch, end - i));
-        }
-      });
-    })->Arg(1)->Arg(all)->ArgName("threads")->UseRealTime();
-  }
-  return true;
-}();
+// A scene file's points: 1.2 times the box its field's zero set lies in (a mesh's: its bounding box), or the
+// built-ins' box where that is unbounded (a plane, a repetition).
+Points points_for(const sdf::Scene& scene) {
+  const sdf::Box3 box = sdf::derive_info(scene.root, scene.time).bounds;
+  if (!box.is_finite()) return points();
+  return points_in(box.center() - 0.6 * box.size(), box.center() + 0.6 * box.size());
+}
 
 }  // namespace
+
+// bench_sdf [--scene FILE]... [Google Benchmark's flags]: with scene files, their tapes (a user's own field or
+// mesh) instead of every built-in's; the fixed lee-flat comparisons run either way.
+int main(int argc, char** argv) {
+  std::vector<std::string> files;
+  std::vector<char*> args{argv[0]};
+  for (int i = 1; i < argc; ++i) {
+    if (std::string_view(argv[i]) == "--scene" && i + 1 < argc) {
+      files.push_back(argv[++i]);
+    } else {
+      args.push_back(argv[i]);
+    }
+  }
+  std::deque<Points> file_points;
+  try {
+    for (const std::string& file : files) {
+      const sdf::Scene scene = sdf::load_scene_file(file);
+      register_scene(scene, file_points.emplace_back(points_for(scene)));
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "bench_sdf: " << e.what() << "\n";
+    return 2;
+  }
+  if (files.empty())
+    for (const std::string& name : sdf::builtin_scene_names())
+      register_scene(sdf::builtin_scene(name), points());
+  int count = static_cast<int>(args.size());
+  benchmark::Initialize(&count, args.data());
+  if (benchmark::ReportUnrecognizedArguments(count, args.data())) return 2;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
