@@ -179,6 +179,41 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
   }
 }
 
+// Marches rays[ids[i]] into records[ids[i]], i < n <= kMaxPacket, for the fixed marcher (steps and bisections do
+// not share a step rule lanes could vectorise): each ray's own FixedTrace, fed from shared batches.
+template <class T>
+void march_fixed_traces(const sdf::Tape& tape, const PacketRay<T>* rays, int* ids, int n, RayRecord<T>* records,
+                        const MarchSettings& s, const MarchContext& c) {
+  FixedTrace<T> traces[kMaxPacket];
+  for (int i = 0; i < n; ++i) traces[ids[i]] = FixedTrace<T>(s, c, T(0), static_cast<T>(rays[ids[i]].max_dist));
+  int count = n;  // max_steps > 0 (march_packet): every trace wants a first value
+  while (count > 0) {
+    int still = 0;  // compacts ids in place: still <= the index read
+    for (int b = 0; b < count; b += sdf::kBatch) {
+      const int k = std::min(sdf::kBatch, count - b);
+      alignas(64) T x[sdf::kBatch], y[sdf::kBatch], z[sdf::kBatch], f[sdf::kBatch];
+      for (int j = 0; j < k; ++j) {
+        const PacketRay<T>& ray = rays[ids[b + j]];
+        const glm::vec<3, T> p = ray.origin + ray.direction * traces[ids[b + j]].t();  // as march()
+        x[j] = p.x;
+        y[j] = p.y;
+        z[j] = p.z;
+      }
+      sdf::evaluate_batch(tape, x, y, z, f, k);
+      for (int j = 0; j < k; ++j) {
+        const int i = ids[b + j];
+        traces[i].feed(f[j]);
+        if (traces[i].done()) {
+          records[i] = traces[i].record();
+        } else {
+          ids[still++] = i;
+        }
+      }
+    }
+    count = still;
+  }
+}
+
 }  // namespace
 
 template <class T>
@@ -196,7 +231,7 @@ void march_packet(const sdf::Tape& tape, const PacketRay<T>* rays, RayRecord<T>*
     for (int i = 0; i < m; ++i) {
       const PacketRay<T>& ray = rays[base + i];
       // Rare: one point at a time (with no step allowed, march() ends the ray without evaluating).
-      if (s.marcher == Marcher::fixed || settings_bad || !(0 < s.max_steps) || !(ray.max_dist > 0) ||
+      if (settings_bad || !(0 < s.max_steps) || !(ray.max_dist > 0) ||
           detail::ray_degenerate(ray.origin, ray.direction, T(0))) {
         MarchSettings own = s;
         own.max_dist = ray.max_dist;
@@ -205,7 +240,9 @@ void march_packet(const sdf::Tape& tape, const PacketRay<T>* rays, RayRecord<T>*
         active[count++] = i;
       }
     }
-    if (s.marcher == Marcher::relaxed) {
+    if (s.marcher == Marcher::fixed) {
+      march_fixed_traces(tape, rays + base, active, count, records + base, s, c);
+    } else if (s.marcher == Marcher::relaxed) {
       march_lanes<true>(tape, rays + base, active, count, records + base, s, c);
     } else {
       march_lanes<false>(tape, rays + base, active, count, records + base, s, c);

@@ -100,17 +100,19 @@ Mismatches compare(const sdf::Scene& scene) {
 
 class EveryBuiltinPacket : public ::testing::TestWithParam<std::string> {};
 
-// In the scene's own marcher, and over-relaxed (its packets keep each lane's factor and step back where the
-// unbounding spheres part, as SphereTrace does). Broken variants: a relaxed lane that never steps back
-// (march-packet-relaxed-no-step-back), one whose fallback forgets the last forward step (march-packet-relaxed-stale).
+// In the scene's own marcher, over-relaxed (its packets keep each lane's factor and step back where the unbounding
+// spheres part, as SphereTrace does) and in fixed steps with bisection (each ray's FixedTrace fed from batches).
+// Broken variants: a relaxed lane that never steps back (march-packet-relaxed-no-step-back), one whose fallback
+// forgets the last forward step (march-packet-relaxed-stale), a bisection that keeps the wrong half
+// (march-fixed-bisects-wrong-half).
 TEST_P(EveryBuiltinPacket, SameOutcomesStepsEvaluationsNormalsAndShadowsAsOneRayAtATime) {
   sdf::Scene scene = sdf::builtin_scene(GetParam());
-  for (const bool relaxed : {false, true}) {
-    if (relaxed) scene.march.marcher = sdf::Marcher::relaxed;
+  for (const char* marcher : {"own", "relaxed", "fixed"}) {
+    if (marcher != std::string("own")) sdf::apply_setting(scene, "marcher", marcher);
     const Mismatches m = scene.march.precision == sdf::Precision::float64 ? compare<double>(scene) : compare<float>(scene);
-    EXPECT_EQ(m.march, 0) << (relaxed ? "relaxed" : "own marcher");
-    EXPECT_EQ(m.normals, 0);
-    EXPECT_EQ(m.shadows, 0) << (relaxed ? "relaxed" : "own marcher");
+    EXPECT_EQ(m.march, 0) << marcher;
+    EXPECT_EQ(m.normals, 0) << marcher;
+    EXPECT_EQ(m.shadows, 0) << marcher;
   }
 }
 

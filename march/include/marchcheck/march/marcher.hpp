@@ -125,45 +125,6 @@ inline bool ray_invalid(glm::vec<3, T> origin, glm::vec<3, T> direction, T t_sta
   return ray_degenerate(origin, direction, t_start) || settings_invalid(s, c);
 }
 
-template <class T, class F>
-RayRecord<T> march_fixed(const F& f, glm::vec<3, T> origin, glm::vec<3, T> direction, const MarchSettings& s,
-                         const MarchContext& c, T t_start) {
-  RayRecord<T> r;
-  Tracker<T> track{r};
-  const T max_dist = static_cast<T>(s.max_dist);
-  auto probe = [&](T tt) {
-    const T v = f(origin + direction * tt);
-    ++r.steps;
-    track.saw(tt, v);
-    return v;
-  };
-  const T step = T(s.fixed_step);
-  T t = t_start, prev_t = t;
-  while (r.steps < s.max_steps) {
-    const T v = probe(t);
-    if (!std::isfinite(v)) return track.end(Outcome::invalid, t);
-    const T eps = hit_threshold(s, c, t);
-    if (r.steps == 1 && v < -eps) return track.end(Outcome::inside, t);
-    if (v < eps) {
-      if (v > -eps || r.steps == 1) return track.end(Outcome::hit, t);
-      // Crossed the surface between prev_t (outside) and t (inside): bisect the bracket.
-      T lo = prev_t, hi = t;
-      while (r.steps < s.max_steps) {
-        const T mid = lo + (hi - lo) * T(0.5);
-        const T vm = probe(mid);
-        if (!std::isfinite(vm)) return track.end(Outcome::invalid, mid);
-        if (std::abs(vm) < hit_threshold(s, c, mid) || !(mid > lo && mid < hi)) return track.end(Outcome::hit, mid);
-        (vm > 0 ? lo : hi) = mid;
-      }
-      return track.end(Outcome::miss_steps, lo);
-    }
-    prev_t = t;
-    t += step;
-    if (t > max_dist) return track.end(Outcome::miss_far, t);
-  }
-  return track.end(Outcome::miss_steps, t);
-}
-
 }  // namespace detail
 
 // Sphere tracing; relaxed: steps of omega * f, falling back to a plain step from the previous point when the
@@ -226,6 +187,63 @@ class SphereTrace {
   bool done_ = false;
 };
 
+// Fixed steps of fixed_step; a step that lands inside (f below -threshold) bisects the bracket from the previous
+// point until |f| is below the threshold there. A state machine fed one value at a time, like SphereTrace.
+template <class T>
+class FixedTrace {
+ public:
+  FixedTrace() = default;
+  // s and c must outlive the trace; max_dist replaces s.max_dist.
+  FixedTrace(const MarchSettings& s, const MarchContext& c, T t_start, T max_dist)
+      : s_(&s), c_(&c), max_dist_(max_dist), step_(T(s.fixed_step)), at_(t_start), prev_t_(t_start) {
+    if (!(r_.steps < s.max_steps)) end(Outcome::miss_steps, at_);
+  }
+  bool done() const { return done_; }
+  T t() const { return at_; }  // where the field is wanted next
+  const RayRecord<T>& record() const { return r_; }
+
+  void feed(T v) {
+    ++r_.steps;
+    detail::Tracker<T>{r_}.saw(at_, v);
+    if (!std::isfinite(v)) return end(Outcome::invalid, at_);
+    if (bisecting_) {
+      const T mid = at_;
+      if (std::abs(v) < hit_threshold(*s_, *c_, mid) || !(mid > lo_ && mid < hi_)) return end(Outcome::hit, mid);
+      (v > 0 ? lo_ : hi_) = mid;
+      return next_midpoint();
+    }
+    const T t = at_, eps = hit_threshold(*s_, *c_, t);
+    if (r_.steps == 1 && v < -eps) return end(Outcome::inside, t);
+    if (v < eps) {
+      if (v > -eps || r_.steps == 1) return end(Outcome::hit, t);
+      // Crossed the surface between the previous point (outside) and t (inside): bisect the bracket.
+      bisecting_ = true;
+      lo_ = prev_t_;
+      hi_ = t;
+      return next_midpoint();
+    }
+    prev_t_ = t;
+    at_ = t + step_;
+    if (at_ > max_dist_) return end(Outcome::miss_far, at_);
+    if (!(r_.steps < s_->max_steps)) end(Outcome::miss_steps, at_);
+  }
+
+ private:
+  void next_midpoint() {
+    if (!(r_.steps < s_->max_steps)) return end(Outcome::miss_steps, lo_);
+    at_ = lo_ + (hi_ - lo_) * T(0.5);
+  }
+  void end(Outcome o, T t) {
+    detail::Tracker<T>{r_}.end(o, t);
+    done_ = true;
+  }
+  const MarchSettings* s_ = nullptr;
+  const MarchContext* c_ = nullptr;
+  T max_dist_ = 0, step_ = 0, at_ = 0, prev_t_ = 0, lo_ = 0, hi_ = 0;
+  RayRecord<T> r_;
+  bool bisecting_ = false, done_ = false;
+};
+
 // Marches field f (any callable vec3<T> -> T) from origin along direction, starting at t_start.
 // t is measured in units of |direction|: a direction that is not normalised is marched as given (as the
 // seed shaders that forget to normalise do), which is what lets validation catch them.
@@ -236,10 +254,12 @@ RayRecord<T> march(const F& f, glm::vec<3, T> origin, glm::vec<3, T> direction, 
     RayRecord<T> r;
     return detail::Tracker<T>{r}.end(Outcome::invalid, t_start);
   }
-  if (s.marcher == Marcher::fixed) return detail::march_fixed(f, origin, direction, s, c, t_start);
-  SphereTrace<T> trace(s, c, t_start, static_cast<T>(s.max_dist));
-  while (!trace.done()) trace.feed(f(origin + direction * trace.t()));
-  return trace.record();
+  const auto run = [&](auto trace) {
+    while (!trace.done()) trace.feed(f(origin + direction * trace.t()));
+    return trace.record();
+  };
+  if (s.marcher == Marcher::fixed) return run(FixedTrace<T>(s, c, t_start, static_cast<T>(s.max_dist)));
+  return run(SphereTrace<T>(s, c, t_start, static_cast<T>(s.max_dist)));
 }
 
 }  // namespace marchcheck::march
