@@ -316,8 +316,8 @@ void add_far_and_scale_cases(Battery& b) {
          {"placement_rounded", "pixels", "the scene placed off its camera by float's rounding (2^-24 of the offset)"}},
         far_render);
   b.add("far.terrain_hash",
-        "lee-terrain's height field in float against double on circles of radius 1..1e5 about the origin; the "
-        "seed's sin hash beside it (how far out its gap reaches 1e-3 and 1e-2)",
+        "lee-terrain's height field in float against double on circles of radius 0.1..1e5 about the origin; the "
+        "seed's sin hash beside it (how far out its gap reaches 1e-3, 1e-2 and 1e-1)",
         "the splitmix hash's float heights within 16 unit roundoffs of (1 + radius) times L of double's",
         {{"naive", "", "the seed's sin hash"},
          {"rounding_at_origin", "height", "the rounding allowed as at the origin, whatever the radius"}},
