@@ -61,8 +61,20 @@ bool single_fan(std::vector<std::pair<std::uint32_t, std::uint32_t>>& link) {
   return components == 1;
 }
 
+// The smallest weld tolerance to suggest: 2^-45 of the mesh's extent (VertexGrid resolves down to 2^-49 of it).
+double weld_resolution(const Mesh& mesh) {
+  if (mesh.vertices.empty()) return 1e-300;
+  dvec3 lo(mesh.vertices[0]), hi(lo);
+  for (const dvec3& p : mesh.vertices) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const dvec3 extent = hi - lo;
+  return std::max(0x1p-45 * std::max({extent.x, extent.y, extent.z}), 1e-300);
+}
+
 // Counts the boundary vertices (given with repeats) that have another boundary vertex within kSeamReach of the
-// boundary's bounding diagonal.
+// boundary's bounding diagonal, or within the weld resolution where that is wider.
 void seams(const Mesh& mesh, std::vector<std::uint32_t> boundary, MeshReport& report) {
   std::sort(boundary.begin(), boundary.end());
   boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
@@ -72,7 +84,7 @@ void seams(const Mesh& mesh, std::vector<std::uint32_t> boundary, MeshReport& re
     lo = glm::min(lo, mesh.vertices[v]);
     hi = glm::max(hi, mesh.vertices[v]);
   }
-  const double reach = kSeamReach * glm::distance(lo, hi);
+  const double reach = std::max(kSeamReach * glm::distance(lo, hi), weld_resolution(mesh));
   if (!(reach > 0)) return;
   detail::VertexGrid grid(mesh.vertices, reach);
   for (const std::uint32_t v : boundary) grid.add(v);
@@ -242,10 +254,7 @@ struct Names {
 // A weld value that merges vertices gap apart: the next power of ten at least twice gap, and not below what double
 // resolves at the mesh's size (weld refuses less).
 double weld_for(double gap, const Mesh& mesh) {
-  double size = 0;
-  for (const dvec3& p : mesh.vertices) size = std::max({size, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-  const double floor = std::max(0x1p-44 * size, 1e-300);
-  return std::pow(10.0, std::ceil(std::log10(std::max(2 * gap, floor))));
+  return std::pow(10.0, std::ceil(std::log10(std::max(2 * gap, weld_resolution(mesh)))));
 }
 
 }  // namespace

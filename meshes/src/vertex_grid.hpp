@@ -14,8 +14,8 @@ namespace marchcheck::meshes::detail {
 
 class VertexGrid {
  public:
-  // Throws MeshError for a negative or non-finite tolerance, or (on add) one below double's resolution at a
-  // coordinate. Tolerance 0 finds exactly equal positions only (-0 and +0 alike).
+  // Throws MeshError for a negative or non-finite tolerance, or (on add) one below double's resolution across the
+  // positions' extent. Tolerance 0 finds exactly equal positions only (-0 and +0 alike).
   VertexGrid(const std::vector<glm::dvec3>& positions, double tolerance);
 
   void add(std::uint32_t vertex);
@@ -42,6 +42,7 @@ class VertexGrid {
 
   const std::vector<glm::dvec3>& positions_;
   double tolerance_;
+  glm::dvec3 origin_{0};  // the positions' lowest corner
   std::map<Cell, std::vector<std::uint32_t>> cells_;
 };
 

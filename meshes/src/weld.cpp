@@ -17,18 +17,22 @@ VertexGrid::VertexGrid(const std::vector<glm::dvec3>& positions, double toleranc
     : positions_(positions), tolerance_(tolerance) {
   if (!(tolerance >= 0) || !std::isfinite(tolerance))
     throw MeshError("weld: the tolerance must be a finite number >= 0");
+  if (!positions.empty()) origin_ = positions[0];
+  for (const glm::dvec3& p : positions) origin_ = glm::min(origin_, p);
 }
 
-// Cells twice the tolerance wide: partners lie less than half a cell apart, so in the same cell or one of the 26
-// around it even after the division rounds (cell numbers are kept below 2^48, where it rounds by under 1/16).
-// With tolerance 0 every position is its own cell (its bits), so only equal positions meet.
+// Cells twice the tolerance wide, counted from the positions' lowest corner (a mesh far from the origin keeps
+// small cell numbers; p - origin is exact for nearby values): partners lie less than half a cell apart, so in the
+// same cell or one of the 26 around it even after the division rounds (cell numbers are kept below 2^48, where
+// it rounds by under 1/16). With tolerance 0 every position is its own cell (its bits): only equal positions meet.
 VertexGrid::Cell VertexGrid::cell_of(glm::dvec3 p) const {
   Cell c{};
   for (int i = 0; i < 3; ++i) {
-    const double x = tolerance_ > 0 ? std::floor(p[i] / (2 * tolerance_)) : p[i] == 0 ? 0.0 : p[i];
-    if (tolerance_ > 0 && std::abs(x) > 0x1p48) {
+    const double x = tolerance_ > 0 ? std::floor((p[i] - origin_[i]) / (2 * tolerance_)) : p[i] == 0 ? 0.0 : p[i];
+    if (tolerance_ > 0 && !(std::abs(x) <= 0x1p48)) {
       std::ostringstream what;
-      what << "weld: a tolerance of " << tolerance_ << " is below double's resolution at a coordinate of " << p[i];
+      what << "weld: a tolerance of " << tolerance_ << " is below double's resolution across coordinates from "
+           << origin_[i] << " to " << p[i];
       throw MeshError(what.str());
     }
     c[static_cast<std::size_t>(i)] = tolerance_ > 0 ? static_cast<std::int64_t>(x) : std::bit_cast<std::int64_t>(x);

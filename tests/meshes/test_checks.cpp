@@ -246,6 +246,22 @@ TEST(Inspect, ASplitSeamIsPointedOutWithTheWeldThatClosesIt) {
   EXPECT_EQ(solid_problem(inspect(hole), hole).find("seam"), std::string::npos);
 }
 
+// A small mesh far out (a box 1.2e14 from the origin, as fuzz_mesh_stl found): its seam is found and welded as at
+// the origin, the grid counting cells from the mesh's own corner (from the origin, its cells would pass 2^48 and
+// inspect threw). Broken variant: cells counted from the origin (meshes-grid-cells-from-origin).
+TEST(Inspect, ASeamFarFromTheOriginIsFoundAtTheResolutionThere) {
+  Mesh m = box({1, 1, 1}).mesh;
+  for (dvec3& v : m.vertices) v += dvec3(1.22e14, 0, 0);
+  m.vertices.push_back(m.vertices[7]);
+  m.triangles[11][1] = 8;
+  const MeshReport r = inspect(m);
+  EXPECT_EQ(r.seam_vertices, 2);
+  const std::string problem = solid_problem(r, m);
+  EXPECT_NE(problem.find("a seam split there (a mesh node's \"weld\": 1e-13 merges them"), std::string::npos) << problem;
+  EXPECT_EQ(weld(m, 1e-13).merged_vertices, 1);
+  EXPECT_EQ(solid_problem(inspect(m), m), "");
+}
+
 TEST(Inspect, DuplicateVerticesAreCounted) {
   Mesh m = sphere();
   m.vertices.push_back(m.vertices[3]);
