@@ -301,7 +301,7 @@ ShardFile validate_user_marchers(const ValidateCommand& cmd, const validation::S
       sdf::Scene scene = user_marcher_scene(shader, marcher);
       apply_sets(scene, cmd.sets);
       // The driver runs the marcher in float whatever the scene says; its binary16 run is the CPU's, under the table.
-      if (scene.root.glsl && scene.root.glsl->spec().half)
+      if (scene.march.precision == sdf::Precision::float16)
         throw sdf::SceneError(path + ": --march judges the GL driver's run, in float; the marcher in half (mediump) "
                                      "is run on the CPU and compared under the table");
       sdf::compile(scene.root, scene.time);

@@ -15,9 +15,15 @@ namespace marchcheck::march {
 
 namespace {
 
-bool is_float_format(const std::string& path) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  return ext == ".exr" || ext == ".tif" || ext == ".tiff" || ext == ".hdr";
+// The extension naming a file's format, in lower case (".PNG" is ".png").
+std::string format_of(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+bool is_float_format(const std::string& format) {
+  return format == ".exr" || format == ".tif" || format == ".tiff" || format == ".hdr";
 }
 
 float to_srgb(float linear) {
@@ -44,12 +50,6 @@ std::vector<unsigned char> to_8bit(const Image& image, bool srgb) {
 }
 
 namespace {
-
-bool is_png(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext == ".png";
-}
 
 // 8-bit PNG in memory through libpng: grey, grey and alpha, RGB or RGBA by the channel count; the transfer in a
 // tEXt chunk (marchcheck:transfer) and, for sRGB, the sRGB chunk. Raw values get no gAMA 1.0, which would have a
@@ -102,10 +102,11 @@ std::vector<unsigned char> encode_png(const Image& image, const std::string& pat
 }  // namespace
 
 void write_image(const Image& image, const std::string& path, bool srgb) {
-  const bool as_float = is_float_format(path);
+  const std::string format = format_of(path);
+  const bool as_float = is_float_format(format);
   const std::vector<unsigned char> bytes = as_float ? std::vector<unsigned char>{} : to_8bit(image, srgb);
   const std::vector<unsigned char> encoded =
-      is_png(path) ? encode_png(image, path, bytes, srgb) : image_module().encode(image, path, as_float, bytes, srgb);
+      format == ".png" ? encode_png(image, path, bytes, srgb) : image_module().encode(image, path, as_float, bytes, srgb);
   files::write_bytes_atomically(path, {reinterpret_cast<const char*>(encoded.data()), encoded.size()});
 }
 

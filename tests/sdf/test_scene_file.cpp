@@ -120,6 +120,33 @@ TEST(SceneFile, ScaledToWidthScalesTheIntrinsicsWithTheImage) {
   EXPECT_EQ(scaled_to_width(s, 320).camera.cy, -1);
 }
 
+// The march's coordinates: a setting and a scene-file key like the others, kept by a round trip and refused with
+// the names it takes. Broken variant: the key's names swapped (sdf-coordinates-names-swapped).
+TEST(SceneFile, CoordinatesAreAKeyWorldOrCamera) {
+  Scene s = builtin_scene("crum-smooth");
+  EXPECT_EQ(s.march.coordinates, Coordinates::world);
+  apply_setting(s, "coordinates", "camera");
+  EXPECT_EQ(s.march.coordinates, Coordinates::camera);
+  EXPECT_EQ(scene_from_json(scene_to_json(s), "s.json").march.coordinates, Coordinates::camera);
+  try {
+    apply_setting(s, "coordinates", "eye");
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("'eye' is not one of world, camera"), std::string::npos) << e.what();
+  }
+}
+
+// A GLSL node written at mediump makes the scene's march half when the file names no precision of its own, and a
+// scene precision given in the file decides for its GLSL fields. Broken variant: the node's mediump left to the
+// node alone (sdf-node-mediump-not-the-scenes).
+TEST(SceneFile, AGlslNodesMediumpIsTheScenesPrecision) {
+  const std::string node = R"({"type": "glsl", "code": "float map(vec3 p) { return length(p) - 1.0; }", "kind": "exact", "precision": "half"})";
+  EXPECT_EQ(scene_from_json(R"({"name": "h", "sdf": )" + node + "}", "h.json").march.precision, Precision::float16);
+  const Scene in_float = scene_from_json(R"({"name": "h", "precision": "float", "sdf": )" + node + "}", "h.json");
+  EXPECT_EQ(in_float.march.precision, Precision::float32);
+  EXPECT_FALSE(in_float.root.glsl->spec().half);
+}
+
 TEST(SceneFile, SyntaxErrorsGiveLineAndColumn) {
   const std::string err = error_of("{\n  \"sdf\": {\"type\": \"sphere\",\n  \"radius\": 1,,\n}}");
   EXPECT_EQ(err.rfind("bad.json:3:15: syntax error", 0), 0u) << err;
