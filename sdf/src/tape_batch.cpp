@@ -3,6 +3,8 @@
 // for bit (no FMA contraction: -ffp-contract=off). GCC vectorises the loops of the branch-free kernels for the
 // target (-march=native: AVX2 or AVX-512); the others run lane after lane without the one-point tape's
 // dispatch per instruction.
+// The kernels' float transcendentals vectorise through their SLEEF clones (vector_math.hpp).
+#define MARCHCHECK_VECTOR_CLONES
 #include "marchcheck/sdf/tape.hpp"
 
 namespace marchcheck::sdf {
@@ -47,7 +49,23 @@ MARCHCHECK_KERNEL void source(const kernels::Args<T>& k, const Instr& in, Lanes<
   const T* __restrict py = l.py();
   const T* __restrict pz = l.pz();
   T* __restrict r = l.value(++l.vt);
-  for (int i = 0; i < l.n; ++i) r[i] = Kernel(k, vec3<T>(px[i], py[i], pz[i]));
+  if constexpr (Kernel == kernels::heightfield<T>) {
+    // Octave by octave, each one loop over the lanes with the hash chosen before it: an octave loop inside each
+    // lane's, or a choice of hash, would keep the lanes' loop from vectorising.
+    auto octaves = [&](auto noise) {
+      for (int i = 0; i < l.n; ++i) r[i] = T(0);
+      for (std::uint32_t o = 0; o < kernels::heightfield_octaves(k); ++o)
+        for (int i = 0; i < l.n; ++i)
+          r[i] = kernels::heightfield_octave(k, o, r[i], vec3<T>(px[i], py[i], pz[i]), noise);
+      for (int i = 0; i < l.n; ++i) r[i] = py[i] - r[i];
+    };
+    if (kernels::heightfield_hash(k) == NoiseHash::seed_sin)
+      octaves([](T x, T z) { return value_noise<NoiseHash::seed_sin>(x, z); });
+    else
+      octaves([](T x, T z) { return value_noise<NoiseHash::splitmix>(x, z); });
+  } else {
+    for (int i = 0; i < l.n; ++i) r[i] = Kernel(k, vec3<T>(px[i], py[i], pz[i]));
+  }
   if constexpr (WithMaterial) {
     for (int i = 0; i < l.n; ++i) l.s.m[l.vt][i] = in.material;
     if (in.op == TapeOp::glsl)

@@ -5,6 +5,7 @@
 
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/node.hpp"
+#include "marchcheck/sdf/noise.hpp"
 #include "marchcheck/sdf/tape.hpp"
 
 #include <gtest/gtest.h>
@@ -24,23 +25,38 @@ TEST(Batch, EveryBuiltinMatchesTheOnePointTapeBitForBit) {
   }
 }
 
-// Every instruction with a vectorised loop, and one that runs lane by lane (twist), in one tree.
-Node every_vectorised_op() {
+// Every instruction with a vectorised loop, those through SLEEF's clones (twist, warp, displace: sin and cos;
+// repeat: floor) and the height field octave by octave with each hash: each part alone, so that no union hides
+// a part that differs, and all in one tree.
+std::vector<Node> every_vectorised_part() {
   const Node rounded = make(Op::round_box, {{"half_size", {0.5, 0.3, 0.4}}, {"radius", {0.1}}});
   const Node scaled = make(Op::scale, {{"factor", {1.7}}}, {torus(0.8, 0.2)});
   const Node turned = make(Op::rotate, {{"axis", {1, 2, 3}}, {"angle_deg", {40}}}, {box({0.6, 0.2, 0.9})});
   const Node swollen = make(Op::round, {{"radius", {0.05}}}, {turned});
   const Node twisted = make(Op::twist, {{"rate", {0.7}}}, {box({0.3, 1, 0.3})});
-  return unite({intersect(subtract(translate({0.3, 1, 0}, sphere(1.1)), rounded), plane({0.1, 1, 0.2}, 0.3)),
-                make(Op::smooth_intersection, {{"k", {0.3}}}, {scaled, swollen}),
-                make(Op::smooth_subtraction, {{"k", {0.2}}}, {twisted, sphere(0.5)}),
-                smooth_union(0.4, {translate({-2, 0, 1}, sphere(0.7)), translate({-1.5, 0.5, 1}, box({0.3, 0.3, 0.3}))})});
+  auto terrain = [](NoiseHash hash) {
+    return make(Op::heightfield, {{"hash", {static_cast<double>(hash)}}, {"octaves", {-0.5, 0.5, -0.05, 2, 0.01, 40}}});
+  };
+  return {intersect(subtract(translate({0.3, 1, 0}, sphere(1.1)), rounded), plane({0.1, 1, 0.2}, 0.3)),
+          translate({2, 0.5, -1}, make(Op::warp, {}, {sphere(0.6)})),
+          make(Op::displace, {{"amplitude", {0.1}}, {"frequency", {15}}},
+               {make(Op::repeat, {{"period", {3, 0, 3}}}, {translate({0, 1, 0}, box({0.4, 0.4, 0.4}))})}),
+          translate({0, -1, 0}, terrain(NoiseHash::splitmix)),
+          translate({0, -1.3, 0}, terrain(NoiseHash::seed_sin)),
+          make(Op::smooth_intersection, {{"k", {0.3}}}, {scaled, swollen}),
+          make(Op::smooth_subtraction, {{"k", {0.2}}}, {twisted, sphere(0.5)}),
+          smooth_union(0.4, {translate({-2, 0, 1}, sphere(0.7)), translate({-1.5, 0.5, 1}, box({0.3, 0.3, 0.3}))})};
 }
+Node every_vectorised_op() { return unite(every_vectorised_part()); }
 
 TEST(Batch, EveryVectorisedInstructionMatchesTheOnePointTapeBitForBit) {
-  const Tape tape = compile(every_vectorised_op());
-  EXPECT_EQ(mismatches<float>(tape, tape), 0);
-  EXPECT_EQ(mismatches<double>(tape, tape), 0);
+  std::vector<Node> trees = every_vectorised_part();
+  trees.push_back(every_vectorised_op());
+  for (size_t i = 0; i < trees.size(); ++i) {
+    const Tape tape = compile(trees[i]);
+    EXPECT_EQ(mismatches<float>(tape, tape), 0) << "part " << i;
+    EXPECT_EQ(mismatches<double>(tape, tape), 0) << "part " << i;
+  }
 }
 
 // A half tape (GLSL's mediump) gives its one-point binary16 values in batches too, and they are not float's: most

@@ -44,7 +44,7 @@ T constant(double v) {
 
 template <class T>
 T floor_of(T x) {
-  return chain(x, [](auto v) { return std::floor(v); }, [](auto) { return decltype(value_of(T{}))(0); });
+  return chain(x, [](auto v) { return vmath::floor(v); }, [](auto) { return decltype(value_of(T{}))(0); });
 }
 
 // ln 2 in S (binary16: float's, rounded).
@@ -73,21 +73,21 @@ T f_unary(std::uint16_t which, T x) {
     case GLSLstd450Fract: return x - floor_of(x);
     case GLSLstd450Radians: return x * constant<T>(std::numbers::pi / 180);
     case GLSLstd450Degrees: return x * constant<T>(180 / std::numbers::pi);
-    case GLSLstd450Sin: return chain(x, [](S v) { return std::sin(v); }, [](S v) { return std::cos(v); });
-    case GLSLstd450Cos: return chain(x, [](S v) { return std::cos(v); }, [](S v) { return -std::sin(v); });
+    case GLSLstd450Sin: return chain(x, [](S v) { return vmath::sin(v); }, [](S v) { return vmath::cos(v); });
+    case GLSLstd450Cos: return chain(x, [](S v) { return vmath::cos(v); }, [](S v) { return -vmath::sin(v); });
     case GLSLstd450Tan:
-      return chain(x, [](S v) { return std::tan(v); }, [](S v) { return 1 / (std::cos(v) * std::cos(v)); });
+      return chain(x, [](S v) { return std::tan(v); }, [](S v) { return 1 / (vmath::cos(v) * vmath::cos(v)); });
     case GLSLstd450Asin:
       return chain(x, [](S v) { return std::asin(v); }, [](S v) { return 1 / std::sqrt(1 - v * v); });
     case GLSLstd450Acos:
-      return chain(x, [](S v) { return std::acos(v); }, [](S v) { return -1 / std::sqrt(1 - v * v); });
-    case GLSLstd450Atan: return chain(x, [](S v) { return std::atan(v); }, [](S v) { return 1 / (1 + v * v); });
+      return chain(x, [](S v) { return vmath::acos(v); }, [](S v) { return -1 / std::sqrt(1 - v * v); });
+    case GLSLstd450Atan: return chain(x, [](S v) { return vmath::atan(v); }, [](S v) { return 1 / (1 + v * v); });
     case GLSLstd450Sinh: return chain(x, [](S v) { return std::sinh(v); }, [](S v) { return std::cosh(v); });
     case GLSLstd450Cosh: return chain(x, [](S v) { return std::cosh(v); }, [](S v) { return std::sinh(v); });
     case GLSLstd450Tanh:
       return chain(x, [](S v) { return std::tanh(v); }, [](S v) { return 1 - std::tanh(v) * std::tanh(v); });
-    case GLSLstd450Exp: return chain(x, [](S v) { return std::exp(v); }, [](S v) { return std::exp(v); });
-    case GLSLstd450Log: return chain(x, [](S v) { return std::log(v); }, [](S v) { return 1 / v; });
+    case GLSLstd450Exp: return chain(x, [](S v) { return vmath::exp(v); }, [](S v) { return vmath::exp(v); });
+    case GLSLstd450Log: return chain(x, [](S v) { return vmath::log(v); }, [](S v) { return 1 / v; });
     case GLSLstd450Exp2:
       return chain(x, [](S v) { return std::exp2(v); }, [](S v) { return std::exp2(v) * ln2<S>(); });
     case GLSLstd450Log2: return chain(x, [](S v) { return std::log2(v); }, [](S v) { return 1 / (v * ln2<S>()); });
@@ -120,17 +120,17 @@ T f_binary(std::uint16_t which, T x, T y) {
     case spv::OpFRem: return x - y * chain(x / y, [](S v) { return std::trunc(v); }, [](S) { return S(0); });
     case GLSLstd450Atan2:
       if constexpr (is_dual<T>::value) {
-        return T(std::atan2(x.v, y.v), (x.d * y.v - y.d * x.v) / (x.v * x.v + y.v * y.v));
+        return T(vmath::atan2(x.v, y.v), (x.d * y.v - y.d * x.v) / (x.v * x.v + y.v * y.v));
       } else {
-        return std::atan2(x, y);
+        return vmath::atan2(x, y);
       }
     case GLSLstd450Pow:
       if constexpr (is_dual<T>::value) {
-        const S v = std::pow(x.v, y.v);
-        const S log_x = x.v > 0 ? std::log(x.v) : S(0);
-        return T(v, x.d * (y.v * std::pow(x.v, y.v - 1)) + y.d * (log_x * v));
+        const S v = vmath::pow(x.v, y.v);
+        const S log_x = x.v > 0 ? vmath::log(x.v) : S(0);
+        return T(v, x.d * (y.v * vmath::pow(x.v, y.v - 1)) + y.d * (log_x * v));
       } else {
-        return std::pow(x, y);
+        return vmath::pow(x, y);
       }
     case GLSLstd450FMin:
     case GLSLstd450NMin: return pick_min(x, y);

@@ -27,9 +27,8 @@ enum class NoiseHash { splitmix = 0, seed_sin = 1 };
 
 template <class V>
 inline V seed_sin_lattice(std::int64_t ix, std::int64_t iz) {
-  using std::floor, std::sin;
-  const V s = sin(static_cast<V>(ix) * V(12.9898) + static_cast<V>(iz) * V(54.233)) * V(43758.5453123);
-  return s - floor(s);
+  const V s = vmath::sin(static_cast<V>(ix) * V(12.9898) + static_cast<V>(iz) * V(54.233)) * V(43758.5453123);
+  return s - vmath::floor(s);
 }
 
 template <class V>
@@ -37,20 +36,26 @@ inline V lattice(NoiseHash hash, std::int64_t ix, std::int64_t iz) {
   return hash == NoiseHash::seed_sin ? seed_sin_lattice<V>(ix, iz) : static_cast<V>(lattice_value(ix, iz));
 }
 
-// Bilinear value noise with smoothstep interpolation; values in [0, 1].
-template <class T>
-inline T value_noise(T x, T z, NoiseHash hash = NoiseHash::splitmix) {
+// Bilinear value noise with smoothstep interpolation; values in [0, 1]. Free of branches, so that a loop over the
+// batched tape's lanes vectorises through it (the hash a template argument, the cells' fold a select).
+template <NoiseHash Hash, class T>
+inline T value_noise(T x, T z) {
   using namespace smath;
+  using V = decltype(value_of(T{}));
   const T fx = floor(x), fz = floor(z);
   // Lattice coordinates beyond int64 (or NaN) would be undefined behaviour: fold them to cell 0.
-  auto cell = [](auto v) { return v == v && v > -4e18 && v < 4e18 ? static_cast<std::int64_t>(v) : std::int64_t{0}; };
+  auto cell = [](V v) { return static_cast<std::int64_t>((v == v) & (v > V(-4e18)) & (v < V(4e18)) ? v : V(0)); };
   const std::int64_t ix = cell(value_of(fx)), iz = cell(value_of(fz));
   const T tx = x - fx, tz = z - fz;
   const T ux = tx * tx * (T(3) - T(2) * tx), uz = tz * tz * (T(3) - T(2) * tz);
-  using V = decltype(value_of(T{}));
-  const T a(lattice<V>(hash, ix, iz)), b(lattice<V>(hash, ix + 1, iz));
-  const T c(lattice<V>(hash, ix, iz + 1)), d(lattice<V>(hash, ix + 1, iz + 1));
+  const T a(lattice<V>(Hash, ix, iz)), b(lattice<V>(Hash, ix + 1, iz));
+  const T c(lattice<V>(Hash, ix, iz + 1)), d(lattice<V>(Hash, ix + 1, iz + 1));
   return mix(mix(a, b, ux), mix(c, d, ux), uz);
+}
+
+template <class T>
+inline T value_noise(T x, T z, NoiseHash hash = NoiseHash::splitmix) {
+  return hash == NoiseHash::seed_sin ? value_noise<NoiseHash::seed_sin>(x, z) : value_noise<NoiseHash::splitmix>(x, z);
 }
 
 }  // namespace marchcheck::sdf

@@ -2,6 +2,8 @@
 // Dual<T> (forward-mode automatic differentiation for analytic normals), with the math the fields use.
 #pragma once
 
+#include "marchcheck/sdf/vector_math.hpp"
+
 #include <glm/glm.hpp>
 
 #include <cmath>
@@ -89,62 +91,63 @@ inline T abs(T x) {
 template <class T>
 inline T sin(T x) {
   if constexpr (is_dual<T>::value) {
-    return {std::sin(x.v), x.d * std::cos(x.v)};
+    return {vmath::sin(x.v), x.d * vmath::cos(x.v)};
   } else {
-    return std::sin(x);
+    return vmath::sin(x);
   }
 }
 template <class T>
 inline T cos(T x) {
   if constexpr (is_dual<T>::value) {
-    return {std::cos(x.v), x.d * -std::sin(x.v)};
+    return {vmath::cos(x.v), x.d * -vmath::sin(x.v)};
   } else {
-    return std::cos(x);
+    return vmath::cos(x);
   }
 }
 template <class T>
 inline T log(T x) {
   if constexpr (is_dual<T>::value) {
-    return {std::log(x.v), x.d / x.v};
+    return {vmath::log(x.v), x.d / x.v};
   } else {
-    return std::log(x);
+    return vmath::log(x);
   }
 }
 template <class T>
 inline T atan2(T y, T x) {
   if constexpr (is_dual<T>::value) {
     const auto r2 = x.v * x.v + y.v * y.v;
-    return {std::atan2(y.v, x.v), (y.d * x.v - x.d * y.v) / r2};
+    return {vmath::atan2(y.v, x.v), (y.d * x.v - x.d * y.v) / r2};
   } else {
-    return std::atan2(y, x);
+    return vmath::atan2(y, x);
   }
 }
 template <class T>
 inline T acos(T x) {
   if constexpr (is_dual<T>::value) {
     const auto s = std::sqrt(std::max(decltype(x.v)(0), 1 - x.v * x.v));
-    return {std::acos(x.v), s > 0 ? x.d * (-1 / s) : x.d * decltype(x.v)(0)};
+    return {vmath::acos(x.v), s > 0 ? x.d * (-1 / s) : x.d * decltype(x.v)(0)};
   } else {
-    return std::acos(x);
+    return vmath::acos(x);
   }
 }
 // x^e for a constant exponent.
 template <class T, class E>
 inline T pow(T x, E e) {
   if constexpr (is_dual<T>::value) {
-    const auto p = std::pow(x.v, e);
-    return {p, x.d * (e * std::pow(x.v, e - 1))};
+    using S = decltype(x.v);
+    const S p = vmath::pow(x.v, static_cast<S>(e));
+    return {p, x.d * (static_cast<S>(e) * vmath::pow(x.v, static_cast<S>(e - 1)))};
   } else {
-    return std::pow(x, static_cast<T>(e));
+    return vmath::pow(x, static_cast<T>(e));
   }
 }
 // floor is piecewise constant: its derivative is zero.
 template <class T>
 inline T floor(T x) {
   if constexpr (is_dual<T>::value) {
-    return T(std::floor(x.v));
+    return T(vmath::floor(x.v));
   } else {
-    return std::floor(x);
+    return vmath::floor(x);
   }
 }
 template <class T>

@@ -131,16 +131,28 @@ MARCHCHECK_KERNEL T octahedron_bound(const Args<T>& k, vec3<T> p) {
   return (p.x + p.y + p.z - k(0)) * literal<T>(0.57735026918962576);
 }
 
-// k: the number of pairs, the lattice hash (NoiseHash), then [amplitude, frequency] pairs.
+// k: the number of pairs, the lattice hash (NoiseHash), then [amplitude, frequency] pairs. The height h is summed
+// octave by octave (heightfield_octave, given the noise of the hash), which the batched tape runs as one loop over
+// the lanes per octave with the hash chosen once.
+template <class T>
+MARCHCHECK_KERNEL std::uint32_t heightfield_octaves(const Args<T>& k) {
+  return static_cast<std::uint32_t>(k.raw(0));
+}
+template <class T>
+MARCHCHECK_KERNEL NoiseHash heightfield_hash(const Args<T>& k) {
+  return static_cast<NoiseHash>(static_cast<int>(k.raw(1)));
+}
+template <class T, class Noise>
+MARCHCHECK_KERNEL T heightfield_octave(const Args<T>& k, std::uint32_t i, T h, vec3<T> p, Noise noise) {
+  const T amp = k(2 + 2 * i), freq = k(3 + 2 * i);
+  return h + amp * noise(p.x * freq, p.z * freq);
+}
 template <class T>
 MARCHCHECK_KERNEL T heightfield(const Args<T>& k, vec3<T> p) {
-  const auto pairs = static_cast<std::uint32_t>(k.raw(0));
-  const auto hash = static_cast<NoiseHash>(static_cast<int>(k.raw(1)));
+  const NoiseHash hash = heightfield_hash(k);
   T h(0);
-  for (std::uint32_t i = 0; i < pairs; ++i) {
-    const T amp = k(2 + 2 * i), freq = k(3 + 2 * i);
-    h += amp * value_noise(p.x * freq, p.z * freq, hash);
-  }
+  for (std::uint32_t i = 0; i < heightfield_octaves(k); ++i)
+    h = heightfield_octave(k, i, h, p, [hash](T x, T z) { return value_noise(x, z, hash); });
   return p.y - h;
 }
 
