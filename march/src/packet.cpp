@@ -179,13 +179,14 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
   }
 }
 
-// Marches rays[ids[i]] into records[ids[i]], i < n <= kMaxPacket, for the fixed marcher (steps and bisections do
-// not share a step rule lanes could vectorise): each ray's own FixedTrace, fed from shared batches.
-template <class T>
-void march_fixed_traces(const sdf::Tape& tape, const PacketRay<T>* rays, int* ids, int n, RayRecord<T>* records,
-                        const MarchSettings& s, const MarchContext& c) {
-  FixedTrace<T> traces[kMaxPacket];
-  for (int i = 0; i < n; ++i) traces[ids[i]] = FixedTrace<T>(s, c, T(0), static_cast<T>(rays[ids[i]].max_dist));
+// Marches rays[ids[i]] into records[ids[i]], i < n <= kMaxPacket, where the lanes' step rule does not apply (the
+// fixed marcher's steps and bisections; a secant refinement's extra evaluation): each ray's own Trace
+// (FixedTrace, SphereTrace), fed from shared batches.
+template <class Trace, class T>
+void march_traces(const sdf::Tape& tape, const PacketRay<T>* rays, int* ids, int n, RayRecord<T>* records,
+                  const MarchSettings& s, const MarchContext& c) {
+  Trace traces[kMaxPacket];
+  for (int i = 0; i < n; ++i) traces[ids[i]] = Trace(s, c, T(0), static_cast<T>(rays[ids[i]].max_dist));
   int count = n;  // max_steps > 0 (march_packet): every trace wants a first value
   while (count > 0) {
     int still = 0;  // compacts ids in place: still <= the index read
@@ -241,7 +242,9 @@ void march_packet(const sdf::Tape& tape, const PacketRay<T>* rays, RayRecord<T>*
       }
     }
     if (s.marcher == Marcher::fixed) {
-      march_fixed_traces(tape, rays + base, active, count, records + base, s, c);
+      march_traces<FixedTrace<T>>(tape, rays + base, active, count, records + base, s, c);
+    } else if (s.refine == sdf::HitRefine::secant) {
+      march_traces<SphereTrace<T>>(tape, rays + base, active, count, records + base, s, c);
     } else if (s.marcher == Marcher::relaxed) {
       march_lanes<true>(tape, rays + base, active, count, records + base, s, c);
     } else {

@@ -38,6 +38,12 @@ namespace marchcheck::reports {
 
 namespace {
 
+// The scenes rebuilt from the five tutorial shaders with their own settings (SEED-SCENES.md), whose settings the
+// report's seeds-beaten table tries to beat.
+constexpr const char* kSeedScenes[] = {"lee-flat",  "lee-terrain", "crum-torus",   "crum-smooth",
+                                       "crum-lattice", "fogerty", "warped", "flafla-torus", "flafla-csg"};
+
+
 namespace fs = std::filesystem;
 
 constexpr const char* kMarker = ".marchcheck-report";  // marks a folder this command may replace
@@ -265,6 +271,19 @@ class Builder {
                                       {SweepAxis{"shadow_bias", {"seed_offset", "seed_ignore", "scaled"}}}, untimed);
     save_sweep("sweep-shadow", shadow_sweep_);
 
+    // The seeds beaten: each seed scene's own settings against the best of the known levers. The table reads
+    // evaluations, not seconds: one timed render per point.
+    validation::SweepOptions counted = timed;
+    counted.repeat = 1;
+    nlohmann::ordered_json beaten_data = nlohmann::ordered_json::object();
+    for (const char* name : kSeedScenes) {
+      if (q && std::string(name) != "lee-flat" && std::string(name) != "crum-torus") continue;
+      step(std::string("seeds beaten: ") + name);
+      beaten_.push_back(validation::beat_the_seed(sdf::builtin_scene(name), counted));
+      beaten_data[name] = nlohmann::ordered_json::parse(sweep_json(beaten_.back().sweep));
+    }
+    write_data("seeds-beaten.json", beaten_data.dump(2) + "\n");
+
     step("convergence against max_steps");
     const std::vector<int> limits = q ? std::vector<int>{8, 64, 512} : std::vector<int>{8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096};
     nlohmann::ordered_json convergence = nlohmann::ordered_json::object();
@@ -395,6 +414,7 @@ class Builder {
     h << "<p>" << sweep_summary() << "</p>\n<p>Data behind the plots: <a href=\"data/\">data/</a> (JSON and CSV, as "
          "<code>marchcheck sweep</code> writes them).</p>\n";
 
+    beaten_section(h);
     stability_section(h);
     for (const auto& r : reports_) scene_section(h, r);
     h << "<script>\n// Report health, read by the project's browser test: every image must load.\n"
@@ -440,6 +460,51 @@ class Builder {
       s << "Shadow bias " << escape(p.settings[0].second) << ": false shadow " << number(metric_value(p.metrics, "shadow.false_shadow"))
         << ", false lit " << number(metric_value(p.metrics, "shadow.false_lit")) << ". ";
     return s.str();
+  }
+
+  // B6: the seed's settings against the best found (validation::beat_the_seed), same metrics.
+  void beaten_section(std::ostringstream& h) const {
+    using validation::SeedBeaten;
+    const auto settings = [](const validation::SweepPoint& p) {
+      std::string s;
+      for (const auto& [k, v] : p.settings) s += (s.empty() ? "" : " ") + k + "=" + v;
+      return "<code>" + escape(s) + "</code>";
+    };
+    const auto cells = [&](const validation::SweepPoint& p) {
+      return "<td class=\"l\">" + settings(p) + "</td><td>" + number(metric_value(p.metrics, "cost.evals_per_pixel"), 4) +
+             "</td><td>" + number(metric_value(p.metrics, "hit.t_err_p99"), 3) + "</td>";
+    };
+    const int met = static_cast<int>(std::count_if(beaten_.begin(), beaten_.end(), [](const SeedBeaten& b) {
+      return b.cost_ratio() <= SeedBeaten::kCostTarget && b.accuracy_gain() >= SeedBeaten::kAccuracyTarget;
+    }));
+    h << "<h2 id=\"seeds-beaten\">The seeds beaten</h2>\n<p>Each seed scene's own marching settings against the best "
+         "a sweep of the known levers finds (its marcher and the relaxed one, <code>refine=secant</code>, hit_eps from "
+         "a tenth to ten times the seed's), among settings that pass every check. Accuracy: hit.t_err_p99; cost: SDF "
+         "evaluations per pixel. Targets: the seed's accuracy at &le; "
+      << number(100 * SeedBeaten::kCostTarget, 3) << "% of its evaluations, and " << number(SeedBeaten::kAccuracyTarget, 3)
+      << "&times; its accuracy at &le; its evaluations; both met on " << met << " of " << beaten_.size()
+      << " scenes. Data: <a href=\"data/seeds-beaten.json\">seeds-beaten.json</a>.</p>\n"
+      << "<table class=\"beaten\"><tr><th class=\"l\">scene</th><th class=\"l\">seed's settings</th><th>evals/px</th>"
+         "<th>t_err_p99</th><th class=\"l\">cheapest at the seed's accuracy</th><th>evals/px</th><th>t_err_p99</th>"
+         "<th>cost</th><th class=\"l\">most accurate at &le; the seed's cost</th><th>evals/px</th><th>t_err_p99</th>"
+         "<th>gain</th></tr>\n";
+    for (const SeedBeaten& b : beaten_) {
+      const auto verdict = [](bool ok) { return ok ? "pass" : "fail"; };
+      h << "<tr><td class=\"l\">" << escape(b.scene) << "</td>" << cells(b.seed());
+      if (b.cheapest)
+        h << cells(b.sweep.points[*b.cheapest]) << "<td class=\"" << verdict(b.cost_ratio() <= SeedBeaten::kCostTarget)
+          << "\">" << number(100 * b.cost_ratio(), 3) << "%</td>";
+      else
+        h << "<td class=\"l fail\" colspan=\"4\">none passes</td>";
+      if (b.most_accurate)
+        h << cells(b.sweep.points[*b.most_accurate]) << "<td class=\""
+          << verdict(b.accuracy_gain() >= SeedBeaten::kAccuracyTarget) << "\">" << number(b.accuracy_gain(), 3)
+          << "&times;</td>";
+      else
+        h << "<td class=\"l fail\" colspan=\"4\">none passes</td>";
+      h << "</tr>\n";
+    }
+    h << "</table>\n";
   }
 
   void stability_section(std::ostringstream& h) const {
@@ -517,6 +582,7 @@ class Builder {
   std::ostream& err_;
   std::vector<SceneReport> reports_;
   validation::SweepResult steps_sweep_, shadow_sweep_;
+  std::vector<validation::SeedBeaten> beaten_;
   std::vector<validation::StabilityCase> stability_;
 };
 

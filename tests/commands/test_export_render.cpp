@@ -109,6 +109,8 @@ TEST(ExportRender, EverySettingTheExportWritesRendersAsTheRenderer) {
       {"lee-flat", {{"marcher", "relaxed"}}},
       {"lee-flat", {{"marcher", "fixed"}, {"fixed_step", "0.2"}, {"max_steps", "400"}}},
       {"lee-flat", {{"marcher", "scaled"}, {"step_scale", "0.9"}}},
+      // At a threshold this coarse, hits land 2 units short at grazing angles unless refined (sdf-export-secant-dropped).
+      {"lee-flat", {{"refine", "secant"}, {"hit_eps", "0.1"}}},
       {"crum-torus", {{"eps_mode", "relative"}, {"hit_eps", "0.01"}}},
       {"crum-torus", {{"eps_mode", "pixel"}}},
       {"crum-torus", {{"camera.model", "orthographic"}, {"camera.ortho_height", "6"}}},

@@ -134,6 +134,42 @@ TEST(RelaxedTracing, SavesEvaluationsAndFallsBackSafely) {
   EXPECT_NEAR(head_on.t, 4.0, 1e-4);
 }
 
+// The secant refinement: on a plane at 5 degrees the march stops up to eps / sin(5 deg) = 0.11 short at eps 0.01;
+// the secant through the last two samples is exact on a plane (f is linear along the ray) up to rounding, and
+// its one extra evaluation is counted. On a sphere the line's root is O(eps^2) off: within 1e-4 here. A ray
+// passing the sphere 0.0095 above it stops where f = 0.0099 (t = 4.9716) and keeps that point: f turns back up
+// before the line's root, where |f| is larger (measured).
+// Broken variants: the root taken without its evaluation (march-secant-unchecked), the refinement ignored
+// (march-secant-ignored).
+TEST(SecantRefinement, LandsOnThePlaneAndTheSphereAndKeepsAPassingRayWhereItStopped) {
+  const sdf::Tape plane = sdf::compile(sdf::plane({0, 1, 0}, 0));
+  const TapeField field{&plane};
+  const double angle = 5 * std::numbers::pi / 180;
+  const V dir = glm::normalize(V(std::cos(angle), -std::sin(angle), 0));
+  for (Marcher m : {Marcher::sphere, Marcher::relaxed}) {
+    MarchSettings s = settings(m, 1000, 0.01);
+    const auto stopped = march<double>(field, V(0, 1, 0), dir, s, {});
+    s.refine = sdf::HitRefine::secant;
+    const auto refined = march<double>(field, V(0, 1, 0), dir, s, {});
+    ASSERT_EQ(refined.outcome, Outcome::hit);
+    const double exact = 1 / std::sin(angle);
+    EXPECT_GT(std::abs(stopped.t - exact), 0.01);
+    EXPECT_NEAR(refined.t, exact, 1e-12);
+    EXPECT_EQ(refined.evals, stopped.evals + 1);
+  }
+  MarchSettings s = settings(Marcher::sphere, 1000, 0.01);
+  s.refine = sdf::HitRefine::secant;
+  const auto oblique = march<double>(kSphere, V(0, 0.6, -5), V(0, 0, 1), s, {});
+  ASSERT_EQ(oblique.outcome, Outcome::hit);
+  EXPECT_NEAR(oblique.t, closed_form_t(0.6), 1e-4);
+  const auto passing = march<double>(kSphere, V(0, 1.0095, -5), V(0, 0, 1), s, {});
+  s.refine = sdf::HitRefine::none;
+  const auto unrefined = march<double>(kSphere, V(0, 1.0095, -5), V(0, 0, 1), s, {});
+  ASSERT_EQ(passing.outcome, Outcome::hit);
+  EXPECT_EQ(passing.t, unrefined.t);
+  EXPECT_EQ(passing.evals, unrefined.evals + 1);
+}
+
 TEST(ScaledTracing, StepsSafelyThroughAFieldWithLipschitzAboveOne) {
   // A sphere evaluated at diag(4, 1, 1) p: an ellipsoid-like field with slope 4 along x.
   const sdf::Node squashed =

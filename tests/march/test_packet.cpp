@@ -101,14 +101,15 @@ Mismatches compare(const sdf::Scene& scene) {
 class EveryBuiltinPacket : public ::testing::TestWithParam<std::string> {};
 
 // In the scene's own marcher, over-relaxed (its packets keep each lane's factor and step back where the unbounding
-// spheres part, as SphereTrace does) and in fixed steps with bisection (each ray's FixedTrace fed from batches).
-// Broken variants: a relaxed lane that never steps back (march-packet-relaxed-no-step-back), one whose fallback
+// spheres part, as SphereTrace does), in fixed steps with bisection (each ray's FixedTrace fed from batches) and
+// with its hits refined by a secant step (each ray's SphereTrace fed from batches). Broken variants: a relaxed lane that never steps back (march-packet-relaxed-no-step-back), one whose fallback
 // forgets the last forward step (march-packet-relaxed-stale), a bisection that keeps the wrong half
 // (march-fixed-bisects-wrong-half).
 TEST_P(EveryBuiltinPacket, SameOutcomesStepsEvaluationsNormalsAndShadowsAsOneRayAtATime) {
-  sdf::Scene scene = sdf::builtin_scene(GetParam());
-  for (const char* marcher : {"own", "relaxed", "fixed"}) {
-    if (marcher != std::string("own")) sdf::apply_setting(scene, "marcher", marcher);
+  for (const char* marcher : {"own", "relaxed", "fixed", "secant"}) {
+    sdf::Scene scene = sdf::builtin_scene(GetParam());
+    if (marcher == std::string("secant")) sdf::apply_setting(scene, "refine", "secant");
+    else if (marcher != std::string("own")) sdf::apply_setting(scene, "marcher", marcher);
     const Mismatches m = scene.march.precision == sdf::Precision::float64 ? compare<double>(scene) : compare<float>(scene);
     EXPECT_EQ(m.march, 0) << marcher;
     EXPECT_EQ(m.normals, 0) << marcher;

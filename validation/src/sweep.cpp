@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <iomanip>
 #include <limits>
+#include <sstream>
 
 namespace marchcheck::validation {
 
@@ -137,6 +139,60 @@ void finish_sweep(SweepResult& result) {
                                         metric_or_nan(result.points[*result.cheapest_meeting], "cost.evals_per_pixel"))
       result.cheapest_meeting = i;
   }
+}
+
+namespace {
+
+constexpr const char* kError = "hit.t_err_p99";
+constexpr const char* kCost = "cost.evals_per_pixel";
+
+std::string setting_text(double v) {
+  std::ostringstream s;
+  s << std::setprecision(3) << v;
+  return s.str();
+}
+
+}  // namespace
+
+double SeedBeaten::cost_ratio() const {
+  return cheapest ? sweep.points[*cheapest].metrics.at(kCost) / seed().metrics.at(kCost) : INFINITY;
+}
+
+double SeedBeaten::accuracy_gain() const {
+  if (!most_accurate) return 0;
+  const double best = sweep.points[*most_accurate].metrics.at(kError);
+  return best > 0 ? seed().metrics.at(kError) / best : INFINITY;
+}
+
+void choose_beaten(SeedBeaten& beaten) {
+  const auto& points = beaten.sweep.points;
+  const double seed_error = beaten.seed().metrics.at(kError), seed_cost = beaten.seed().metrics.at(kCost);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const SweepPoint& p = points[i];
+    if (!p.pass || !p.metrics.count(kError)) continue;
+    const double error = p.metrics.at(kError), cost = p.metrics.at(kCost);
+    if (error <= seed_error && (!beaten.cheapest || cost < points[*beaten.cheapest].metrics.at(kCost)))
+      beaten.cheapest = i;
+    if (cost <= seed_cost &&
+        (!beaten.most_accurate || error < points[*beaten.most_accurate].metrics.at(kError)))
+      beaten.most_accurate = i;
+  }
+}
+
+SeedBeaten beat_the_seed(const sdf::Scene& scene, const SweepOptions& options) {
+  const sdf::MarchSettings& m = scene.march;
+  const std::string own = m.marcher == sdf::Marcher::scaled ? "scaled" : m.marcher == sdf::Marcher::relaxed ? "relaxed"
+                          : m.marcher == sdf::Marcher::fixed ? "fixed" : "sphere";
+  SweepAxis marchers{"marcher", {own}};
+  if (own != "relaxed") marchers.values.push_back("relaxed");
+  SweepAxis eps{"hit_eps", {setting_text(m.hit_eps)}};
+  for (double f : {0.1, 0.3, 3.0, 10.0}) eps.values.push_back(setting_text(m.hit_eps * f));
+  const bool secant = m.refine == sdf::HitRefine::secant;
+  const SweepAxis refine{"refine", {secant ? "secant" : "none", secant ? "none" : "secant"}};
+  // The seed's own settings come first: the first value of every axis is the scene's.
+  SeedBeaten beaten{scene.name, sweep(scene, {marchers, refine, eps}, options), {}, {}};
+  choose_beaten(beaten);
+  return beaten;
 }
 
 }  // namespace marchcheck::validation

@@ -128,6 +128,8 @@ Subject subject_in(const sdf::Scene& scene) {
   s.declared = info;
   s.exact_outside = is_exact_outside(scene.root, scene.time);
   s.unit_roundoff = std::numeric_limits<T>::epsilon();
+  // A hit refined by a secant step lands on the surface to O(eps^2), on either side of it.
+  s.stops_either_side = scene.march.refine == sdf::HitRefine::secant;
   s.origin = origin;
   return s;
 }

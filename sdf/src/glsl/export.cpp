@@ -775,7 +775,14 @@ std::string marcher_code(const Scene& s) {
       << "    if (r.steps == 1 && v < -eps) { r.outcome = 3; return r; }\n"
       << "    if (omega > 1.0 && abs(v) + prevF < prevStep) {  // the spheres do not overlap: a plain step back\n"
       << "      omega = 1.0; t = prevT + prevF * scale; prevStep = prevF * scale;\n"
-      << "    } else {\n      if (v < eps) { r.outcome = 0; return r; }\n"
+      << "    } else {\n      if (v < eps) {\n"
+      << (m.refine == HitRefine::secant
+              ? "        // secant_root: one Newton step through the last two samples, kept where |f| is smaller there\n"
+                "        float dt = t - prevT, df = prevF - v, root = t + v * dt / df;\n"
+                "        if (r.steps > 1 && r.steps < MAX_STEPS && df > 0.0 && dt > 0.0 && !isinf(root) &&\n"
+                "            !isnan(root) && root != t && !(abs(probe(r, ro, rd, root, side)) < abs(v))) r.t = t;\n"
+              : "")
+      << "        r.outcome = 0; return r;\n      }\n"
       << "      float step = v * omega * scale;\n      prevT = t; prevF = v; prevStep = step; t += step;\n"
       << "      if (t > maxDist) { r.t = t; r.outcome = 1; return r; }\n    }\n  }\n  r.t = t;\n  return r;\n}\n";
   return out.str();

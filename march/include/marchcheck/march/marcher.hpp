@@ -78,6 +78,15 @@ inline T step_per_unit_f(const MarchSettings& s, const MarchContext& c) {
   return s.marcher == Marcher::scaled ? T(s.step_scale / c.lipschitz) : T(s.step_scale);
 }
 
+// The root of the line through the samples (prev_t, prev_f) and (t, v): a Newton step on f(o + t d) = 0 with the
+// derivative along the ray taken between them (HitRefine::secant). Only where they approach the surface
+// (prev_f > v); else t (NaN compares false: t).
+template <class T>
+inline T secant_root(T prev_t, T prev_f, T t, T v) {
+  const T dt = t - prev_t, df = prev_f - v, root = t + v * dt / df;
+  return df > 0 && dt > 0 && std::isfinite(root) ? root : t;
+}
+
 // True when the settings and context make no sense (NaN, negative, out of range): such rays are `invalid`.
 bool settings_invalid(const MarchSettings& s, const MarchContext& c);
 
@@ -155,6 +164,10 @@ class SphereTrace {
   void feed(T v) {
     ++r_.steps;
     detail::Tracker<T>{r_}.saw(t_, v);
+    if (refining_) {  // the secant's root: the hit moves there only where |f| is smaller than where it stopped
+      if (!(std::abs(v) < stopped_abs_f_)) t_ = stopped_t_;
+      return end(Outcome::hit);
+    }
     if (!std::isfinite(v)) return end(Outcome::invalid);
     const T eps = hit_threshold(*s_, *c_, t_);
     if (r_.steps == 1 && v < -eps) return end(Outcome::inside);
@@ -163,7 +176,18 @@ class SphereTrace {
       t_ = prev_t_ + prev_f_ * scale_;
       prev_step_ = prev_f_ * scale_;
     } else {
-      if (v < eps) return end(Outcome::hit);
+      if (v < eps) {
+        // HitRefine::secant: one evaluation more, at the secant's root, where a step is left for it.
+        const T root = s_->refine == sdf::HitRefine::secant && r_.steps > 1 && r_.steps < s_->max_steps
+                           ? secant_root(prev_t_, prev_f_, t_, v)
+                           : t_;
+        if (root == t_) return end(Outcome::hit);
+        refining_ = true;
+        stopped_t_ = t_;
+        stopped_abs_f_ = std::abs(v);
+        t_ = root;
+        return;
+      }
       const T step = v * omega_ * scale_;
       prev_t_ = t_;
       prev_f_ = v;
@@ -183,8 +207,9 @@ class SphereTrace {
   const MarchSettings* s_ = nullptr;
   const MarchContext* c_ = nullptr;
   T max_dist_ = 0, scale_ = 1, omega_ = 1, t_ = 0, prev_t_ = 0, prev_f_ = 0, prev_step_ = 0;
+  T stopped_t_ = 0, stopped_abs_f_ = 0;  // where the march stopped, while its secant root is evaluated
   RayRecord<T> r_;
-  bool done_ = false;
+  bool done_ = false, refining_ = false;
 };
 
 // Fixed steps of fixed_step; a step that lands inside (f below -threshold) bisects the bracket from the previous

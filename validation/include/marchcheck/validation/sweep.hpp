@@ -80,4 +80,22 @@ void finish_sweep(SweepResult& result);
 // The fronts alone: marks which points no other point dominates on (error, cost).
 void mark_pareto(std::vector<SweepPoint>& points, const std::string& error_metric);
 
+// The seed's own settings beaten: a sweep of the known levers around the scene's settings (its marcher and the
+// relaxed one, the secant refinement, hit_eps from a tenth to ten times the seed's) and, among the points that pass
+// every check, the cheapest at the seed's hit accuracy and the most accurate at no more than the seed's cost.
+// Accuracy: hit.t_err_p99; cost: cost.evals_per_pixel. Targets: 0.6 of the seed's cost, 10 times its accuracy.
+struct SeedBeaten {
+  std::string scene;
+  SweepResult sweep;                      // its first point is the seed's own settings
+  std::optional<size_t> cheapest;         // fewest evaluations with an error no larger than the seed's
+  std::optional<size_t> most_accurate;    // smallest error with no more evaluations than the seed's
+  static constexpr double kCostTarget = 0.6, kAccuracyTarget = 10;
+  const SweepPoint& seed() const { return sweep.points.front(); }
+  double cost_ratio() const;      // the cheapest's evaluations over the seed's (infinity: none found)
+  double accuracy_gain() const;   // the seed's error over the most accurate's (0: none found)
+};
+SeedBeaten beat_the_seed(const sdf::Scene& scene, const SweepOptions& options);
+// The choices of beat_the_seed among a sweep's points (the first the seed's), for tests of the rule alone.
+void choose_beaten(SeedBeaten& beaten);
+
 }  // namespace marchcheck::validation

@@ -112,8 +112,9 @@ struct Subject {
   double unit_roundoff = 0;    // of the march's arithmetic: how far rounding may move a hit point, per unit
   // What the march measures positions from (march::march_origin): its rounding grows with |p - origin|.
   glm::dvec3 origin{0};
-  // The marcher stops where |f| < the threshold, inside the solid too (a user's marcher, as tutorials write it):
-  // a hit no farther past the surface than the threshold is a hit, not a step through it.
+  // The marcher stops where |f| < the threshold, inside the solid too (a user's marcher, as tutorials write it; a
+  // hit refined by HitRefine::secant): a hit no farther past the surface than the threshold is a hit, not a step
+  // through it.
   bool stops_either_side = false;
 };
 
