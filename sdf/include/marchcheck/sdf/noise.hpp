@@ -43,8 +43,9 @@ inline T value_noise(T x, T z) {
   using namespace smath;
   using V = decltype(value_of(T{}));
   const T fx = floor(x), fz = floor(z);
-  // Lattice coordinates beyond int64 (or NaN) would be undefined behaviour: fold them to cell 0.
-  auto cell = [](V v) { return static_cast<std::int64_t>(((v == v) & (v > V(-4e18)) & (v < V(4e18))) ? v : V(0)); };
+  // Lattice coordinates beyond int64 (or NaN, for which both comparisons are false) would be undefined
+  // behaviour: fold them to cell 0, selected before the conversion.
+  auto cell = [](V v) { return static_cast<std::int64_t>(v > V(-4e18) && v < V(4e18) ? v : V(0)); };
   const std::int64_t ix = cell(value_of(fx)), iz = cell(value_of(fz));
   const T tx = x - fx, tz = z - fz;
   const T ux = tx * tx * (T(3) - T(2) * tx), uz = tz * tz * (T(3) - T(2) * tz);
