@@ -48,10 +48,10 @@
 
 extern "C" {
 #define MARCHCHECK_DEFINE_UNARY(name, acc)                                                   \
-  float marchcheck_##name(float x) { return MARCHCHECK_SLEEF_1(name, acc)(x); }          \
+  float marchcheck_##name(float x) noexcept { return MARCHCHECK_SLEEF_1(name, acc)(x); }          \
   MARCHCHECK_CLONES(UNARY, name, acc)
 #define MARCHCHECK_DEFINE_BINARY(name, acc)                                                    \
-  float marchcheck_##name(float x, float y) { return MARCHCHECK_SLEEF_1(name, acc)(x, y); } \
+  float marchcheck_##name(float x, float y) noexcept { return MARCHCHECK_SLEEF_1(name, acc)(x, y); } \
   MARCHCHECK_CLONES(BINARY, name, acc)
 MARCHCHECK_VECTOR_MATH_UNARY(MARCHCHECK_DEFINE_UNARY)
 MARCHCHECK_VECTOR_MATH_BINARY(MARCHCHECK_DEFINE_BINARY)

@@ -10,9 +10,9 @@
 // calls their clones (_ZGV<isa>N<lanes>v_marchcheck_sinf, in vector_math.cpp for the instruction set the
 // library is built for) and keeps the loops vectorised. Elsewhere they are plain functions.
 #if defined(MARCHCHECK_VECTOR_CLONES) && defined(__GNUC__) && !defined(__clang__)
-#define MARCHCHECK_VECTOR_FUNCTION __attribute__((simd("notinbranch"), const, nothrow))
+#define MARCHCHECK_VECTOR_FUNCTION __attribute__((simd("notinbranch"), const))
 #else
-#define MARCHCHECK_VECTOR_FUNCTION __attribute__((const, nothrow))
+#define MARCHCHECK_VECTOR_FUNCTION __attribute__((const))
 #endif
 
 // X(name, SLEEF's accuracy suffix): u10, within 1.0 ulp; floor is exact.
@@ -21,8 +21,8 @@
 #define MARCHCHECK_VECTOR_MATH_BINARY(X) X(atan2f, u10) X(powf, u10)
 
 extern "C" {
-#define MARCHCHECK_DECLARE_UNARY(name, accuracy) MARCHCHECK_VECTOR_FUNCTION float marchcheck_##name(float);
-#define MARCHCHECK_DECLARE_BINARY(name, accuracy) MARCHCHECK_VECTOR_FUNCTION float marchcheck_##name(float, float);
+#define MARCHCHECK_DECLARE_UNARY(name, accuracy) MARCHCHECK_VECTOR_FUNCTION float marchcheck_##name(float) noexcept;
+#define MARCHCHECK_DECLARE_BINARY(name, accuracy) MARCHCHECK_VECTOR_FUNCTION float marchcheck_##name(float, float) noexcept;
 MARCHCHECK_VECTOR_MATH_UNARY(MARCHCHECK_DECLARE_UNARY)
 MARCHCHECK_VECTOR_MATH_BINARY(MARCHCHECK_DECLARE_BINARY)
 #undef MARCHCHECK_DECLARE_UNARY
