@@ -733,14 +733,29 @@ int find_material(const Scene& scene, std::string_view name) {
   return -1;
 }
 
-void apply_setting(Scene& scene, std::string_view key, std::string_view value) {
+namespace {
+
+const Field<Scene>& known_setting(std::string_view key) {
   const Field<Scene>* s = find_setting(key);
   if (!s) {
     std::string names;
     for (const auto& k : settings()) names += std::string(names.empty() ? "" : ", ") + k.key;
     throw SceneError(std::string(key) + ": unknown key; expected one of " + names);
   }
-  s->set(scene, parse_setting_value(value), std::string(key) + "=" + std::string(value));
+  return *s;
+}
+
+}  // namespace
+
+void apply_setting(Scene& scene, std::string_view key, std::string_view value) {
+  known_setting(key).set(scene, parse_setting_value(value), std::string(key) + "=" + std::string(value));
+}
+
+std::string setting_text(const Scene& scene, std::string_view key) {
+  const Field<Scene>& s = known_setting(key);
+  if (!s.get) throw SceneError(std::string(key) + ": a setting of every light, with no one value to read");
+  const json v = s.get(scene);
+  return v.is_string() ? v.get<std::string>() : v.dump();
 }
 
 std::string scene_to_json(const Scene& scene) {

@@ -374,6 +374,24 @@ std::string setting_error(const std::string& key, const std::string& value) {
   return "(no error)";
 }
 
+// setting_text reads a setting back as apply_setting takes it, exactly: a sweep's first point is the scene's own
+// settings. Broken variant: numbers printed to six decimals (sdf-setting-text-rounded).
+TEST(Settings, TextReadBackAppliesToTheSameValue) {
+  Scene scene = builtin_scene("lee-flat");
+  apply_setting(scene, "hit_eps", "0.0123456789012345");
+  apply_setting(scene, "refine", "secant");
+  EXPECT_EQ(setting_text(scene, "hit_eps"), "0.0123456789012345");
+  EXPECT_EQ(setting_text(scene, "refine"), "secant");
+  EXPECT_EQ(setting_text(scene, "max_steps"), "200");
+  for (const char* key : {"hit_eps", "max_steps", "marcher", "relaxation", "camera.fov_deg", "time"}) {
+    Scene again = builtin_scene("crum-torus");
+    apply_setting(again, key, setting_text(scene, key));
+    EXPECT_EQ(setting_text(again, key), setting_text(scene, key)) << key;
+  }
+  EXPECT_THROW(setting_text(scene, "no_such_key"), SceneError);
+  EXPECT_THROW(setting_text(scene, "shadow"), SceneError);  // every light's: no one value
+}
+
 TEST(Settings, BadValuesNameTheKeyTheValueAndWhatWasExpected) {
   EXPECT_EQ(setting_error("hit_eps", "nan"), "hit_eps=nan: expected a number, got NaN");
   EXPECT_EQ(setting_error("hit_eps", "0"), "hit_eps=0: value 0 is out of range (0, 1e+06]");

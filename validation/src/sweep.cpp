@@ -6,9 +6,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <iomanip>
 #include <limits>
-#include <sstream>
 
 namespace marchcheck::validation {
 
@@ -146,12 +144,6 @@ namespace {
 constexpr const char* kError = "hit.t_err_p99";
 constexpr const char* kCost = "cost.evals_per_pixel";
 
-std::string setting_text(double v) {
-  std::ostringstream s;
-  s << std::setprecision(3) << v;
-  return s.str();
-}
-
 }  // namespace
 
 double SeedBeaten::cost_ratio() const {
@@ -180,16 +172,18 @@ void choose_beaten(SeedBeaten& beaten) {
 }
 
 SeedBeaten beat_the_seed(const sdf::Scene& scene, const SweepOptions& options) {
-  const sdf::MarchSettings& m = scene.march;
-  const std::string own = m.marcher == sdf::Marcher::scaled ? "scaled" : m.marcher == sdf::Marcher::relaxed ? "relaxed"
-                          : m.marcher == sdf::Marcher::fixed ? "fixed" : "sphere";
-  SweepAxis marchers{"marcher", {own}};
-  if (own != "relaxed") marchers.values.push_back("relaxed");
-  SweepAxis eps{"hit_eps", {setting_text(m.hit_eps)}};
-  for (double f : {0.1, 0.3, 3.0, 10.0}) eps.values.push_back(setting_text(m.hit_eps * f));
-  const bool secant = m.refine == sdf::HitRefine::secant;
-  const SweepAxis refine{"refine", {secant ? "secant" : "none", secant ? "none" : "secant"}};
-  // The seed's own settings come first: the first value of every axis is the scene's.
+  // The first value of every axis is the scene's own, read back exactly.
+  const auto own = [&](const char* key) { return SweepAxis{key, {sdf::setting_text(scene, key)}}; };
+  const auto add = [](SweepAxis axis, const std::string& other) {
+    if (axis.values.front() != other) axis.values.push_back(other);
+    return axis;
+  };
+  SweepAxis eps = own("hit_eps");
+  for (double f : {0.1, 0.3, 3.0, 10.0}) {
+    char text[32];
+    eps.values.emplace_back(text, std::to_chars(text, text + sizeof text, scene.march.hit_eps * f).ptr);
+  }
+  const SweepAxis marchers = add(own("marcher"), "relaxed"), refine = add(add(own("refine"), "none"), "secant");
   SeedBeaten beaten{scene.name, sweep(scene, {marchers, refine, eps}, options), {}, {}};
   choose_beaten(beaten);
   return beaten;

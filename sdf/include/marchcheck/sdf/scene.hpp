@@ -236,6 +236,8 @@ std::optional<glm::dvec3> ramp_color(const Scene& scene, const Material& materia
 // Applies one KEY=VALUE override (march parameters, time, width, height, camera.*). Throws SceneError
 // "KEY[=VALUE]: what was expected"; callers say which option it came from.
 void apply_setting(Scene& scene, std::string_view key, std::string_view value);
+// The scene's value of a setting as apply_setting takes it back, exactly (numbers in their shortest exact form).
+std::string setting_text(const Scene& scene, std::string_view key);
 // The same view at another width (height in proportion, intrinsics scaled with it), for cheaper renders.
 Scene scaled_to_width(const Scene& scene, int width);
 // The same scene moved by offset with everything placed in it (its trees, meshes, camera, point lights and the
