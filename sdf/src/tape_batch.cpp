@@ -6,6 +6,7 @@
 // The kernels' float transcendentals vectorise through their SLEEF clones (vector_math.hpp).
 #define MARCHCHECK_VECTOR_CLONES
 #include "marchcheck/sdf/tape.hpp"
+#include <type_traits>
 
 namespace marchcheck::sdf {
 
@@ -42,6 +43,13 @@ struct Lanes {
   const T* pz() const { return pt == 0 ? z0 : s.z[pt]; }
 };
 
+// Which kernel a template was given, by template identity: comparing the function addresses is not a constant
+// expression under GCC's -fsanitize=address.
+template <auto Kernel>
+struct KernelIs {};
+template <auto Kernel, auto Other>
+constexpr bool kernel_is = std::is_same_v<KernelIs<Kernel>, KernelIs<Other>>;
+
 // One loop per kernel shape (see kernels/kernel.hpp), each lane as the one-point tape's step does it.
 template <auto Kernel, class T, bool WithMaterial>
 MARCHCHECK_KERNEL void source(const kernels::Args<T>& k, const Instr& in, Lanes<T, WithMaterial>& l) {
@@ -49,7 +57,7 @@ MARCHCHECK_KERNEL void source(const kernels::Args<T>& k, const Instr& in, Lanes<
   const T* __restrict py = l.py();
   const T* __restrict pz = l.pz();
   T* __restrict r = l.value(++l.vt);
-  if constexpr (Kernel == kernels::heightfield<T>) {
+  if constexpr (kernel_is<Kernel, kernels::heightfield<T>>) {
     // Octave by octave, each one loop over the lanes with the hash chosen before it: an octave loop inside each
     // lane's, or a choice of hash, would keep the lanes' loop from vectorising.
     auto octaves = [&](auto noise) {
