@@ -23,20 +23,24 @@ struct Lanes {
   alignas(64) T ox[kMaxPacket], oy[kMaxPacket], oz[kMaxPacket], dx[kMaxPacket], dy[kMaxPacket], dz[kMaxPacket];
   alignas(64) T t[kMaxPacket], max_dist[kMaxPacket], min_abs[kMaxPacket], t_at_min[kMaxPacket], last_abs[kMaxPacket];
   alignas(64) Int<T> steps[kMaxPacket], code[kMaxPacket], id[kMaxPacket];
-  // The relaxed marcher's own: its factor (1 once it stepped back) and the last forward step's start, f and length.
-  alignas(64) T omega[kMaxPacket], prev_t[kMaxPacket], prev_f[kMaxPacket], prev_step[kMaxPacket];
+  // The last forward step's start and f (the relaxed marcher's fallback, the secant's other sample); the relaxed
+  // marcher's factor (1 once it stepped back) and that step's length.
+  alignas(64) T prev_t[kMaxPacket], prev_f[kMaxPacket], omega[kMaxPacket], prev_step[kMaxPacket];
+  // HitRefine::secant: a lane evaluating its secant root (else 0), and where it stopped with what |f|.
+  alignas(64) Int<T> refining[kMaxPacket];
+  alignas(64) T stopped_t[kMaxPacket], stopped_abs[kMaxPacket];
   // Scratch of one step (never compacted): the points and the field's values there.
   alignas(64) T x[kMaxPacket], y[kMaxPacket], z[kMaxPacket], f[kMaxPacket];
 };
 
 constexpr int kRunning = -1;  // else the Outcome
 
-// SphereTrace::feed for every lane at once (Relaxed: with its over-relaxation and step back, else omega = 1); the
-// same expressions in the same order. All lanes of a
+// SphereTrace::feed for every lane at once (Relaxed: with its over-relaxation and step back, else omega = 1;
+// Secant: a hit's extra evaluation at the secant root); the same expressions in the same order. All lanes of a
 // packet start together, so a running lane's step count is the packet's: `step` (this evaluation's number).
 // A lane's code, steps and last |f| change only when it ends (so compaction need not move them for running
 // lanes). Returns the number of lanes still running.
-template <bool First, bool Relaxed, class T>
+template <bool First, bool Relaxed, bool Secant, class T>
 int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slope, int max_steps) {
   using I = Int<T>;
   const T largest = std::numeric_limits<T>::max();
@@ -68,6 +72,18 @@ int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slop
     const bool live = old == running;
     const bool better = live && a < old_min;
     code = live ? code : old;
+    T t_next = live && code == moved ? next : t;
+    bool refine_now = false;  // a hit that moves to its secant root for one more evaluation
+    if constexpr (Secant) {
+      const bool refined = live && l.refining[i] != 0;  // v is the field at the root: a hit, there or where it stopped
+      const T root = secant_root(l.prev_t[i], l.prev_f[i], t, v);
+      refine_now = live && !refined && code == hit && step > 1 && step < max_steps && root != t;
+      code = refined ? hit : refine_now ? running : code;
+      t_next = refined ? (a < l.stopped_abs[i] ? t : l.stopped_t[i]) : refine_now ? root : t_next;
+      l.stopped_t[i] = refine_now ? t : l.stopped_t[i];
+      l.stopped_abs[i] = refine_now ? a : l.stopped_abs[i];
+      l.refining[i] = refine_now ? I(1) : l.refining[i];
+    }
     const bool ends = code != old;
     // The new values first, then the stores: written as `l.steps[i] = ends ? steps : old_steps`, GCC still finds
     // the masked store.
@@ -75,15 +91,17 @@ int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slop
     const I steps_now = ends ? steps : old_steps;
     l.t_at_min[i] = t_at_min;
     l.min_abs[i] = min_abs;
-    l.t[i] = live && code == moved ? next : t;
+    l.t[i] = t_next;
     l.steps[i] = steps_now;
     l.last_abs[i] = last;
     l.code[i] = code;
-    if constexpr (Relaxed) {
-      const bool forward = live && code == moved && !back;  // a step taken: the next one's fallback
+    if constexpr (Relaxed || Secant) {
+      const bool forward = live && code == moved && !back && !refine_now;  // a step taken: the next one's fallback
       const T prev_f = l.prev_f[i];
-      l.omega[i] = back ? T(1) : l.omega[i];
-      l.prev_step[i] = back ? prev_f * scale : forward ? forward_step : l.prev_step[i];
+      if constexpr (Relaxed) {
+        l.omega[i] = back ? T(1) : l.omega[i];
+        l.prev_step[i] = back ? prev_f * scale : forward ? forward_step : l.prev_step[i];
+      }
       l.prev_t[i] = forward ? t : l.prev_t[i];
       l.prev_f[i] = forward ? v : prev_f;
     }
@@ -94,7 +112,7 @@ int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slop
 
 // Writes the records of the lanes that ended and packs the running ones to the front; returns their count.
 // Branch-free index lists first, then one plain loop per array: a lane's fate is not predictable.
-template <bool Relaxed, class T>
+template <bool Relaxed, bool Secant, class T>
 int compact(Lanes<T>& l, int count, RayRecord<T>* records) {
   int keep[kMaxPacket], ended[kMaxPacket];
   int kept = 0, done = 0;
@@ -121,16 +139,24 @@ int compact(Lanes<T>& l, int count, RayRecord<T>* records) {
   // A running lane's steps and last |f| are not kept yet (feed_lanes), and its code is kRunning.
   for (T* a : {l.ox, l.oy, l.oz, l.dx, l.dy, l.dz, l.t, l.max_dist, l.min_abs, l.t_at_min})
     for (int k = first; k < kept; ++k) a[k] = a[keep[k]];
-  if constexpr (Relaxed)
-    for (T* a : {l.omega, l.prev_t, l.prev_f, l.prev_step})
+  if constexpr (Relaxed || Secant)
+    for (T* a : {l.prev_t, l.prev_f})
       for (int k = first; k < kept; ++k) a[k] = a[keep[k]];
+  if constexpr (Relaxed)
+    for (T* a : {l.omega, l.prev_step})
+      for (int k = first; k < kept; ++k) a[k] = a[keep[k]];
+  if constexpr (Secant) {
+    for (T* a : {l.stopped_t, l.stopped_abs})
+      for (int k = first; k < kept; ++k) a[k] = a[keep[k]];
+    for (int k = first; k < kept; ++k) l.refining[k] = l.refining[keep[k]];
+  }
   for (int k = first; k < kept; ++k) l.id[k] = l.id[keep[k]];
   std::fill_n(l.code + first, kept - first, Int<T>(kRunning));
   return kept;
 }
 
 // Marches rays[ids[i]] into records[ids[i]], i < n <= kMaxPacket, for the sphere, scaled and relaxed marchers.
-template <bool Relaxed, class T>
+template <bool Relaxed, bool Secant, class T>
 void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids, int n, RayRecord<T>* records,
                  const MarchSettings& s, const MarchContext& c) {
   Lanes<T> l;
@@ -150,12 +176,15 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
   std::fill_n(l.last_abs, n, std::numeric_limits<T>::infinity());
   std::fill_n(l.t_at_min, n, T(0));
   std::fill_n(l.code, n, Int<T>(kRunning));
-  if constexpr (Relaxed) {
-    std::fill_n(l.omega, n, T(s.relaxation));
+  if constexpr (Relaxed || Secant) {
     std::fill_n(l.prev_t, n, T(0));
     std::fill_n(l.prev_f, n, T(0));
+  }
+  if constexpr (Relaxed) {
+    std::fill_n(l.omega, n, T(s.relaxation));
     std::fill_n(l.prev_step, n, T(0));
   }
+  if constexpr (Secant) std::fill_n(l.refining, n, Int<T>(0));
   const T scale = SphereTrace<T>(s, c, T(0), T(0)).scale();
   const T eps_at_0 = s.eps_mode == EpsMode::absolute ? T(s.hit_eps)
                      : s.eps_mode == EpsMode::pixel  ? T(c.footprint_at_0)
@@ -173,15 +202,15 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
     }
     for (int b = 0; b < count; b += sdf::kBatch)
       sdf::evaluate_batch(tape, l.x + b, l.y + b, l.z + b, l.f + b, std::min(sdf::kBatch, count - b));
-    const int running = step == 1 ? feed_lanes<true, Relaxed>(l, count, step, scale, eps_at_0, eps_slope, s.max_steps)
-                                  : feed_lanes<false, Relaxed>(l, count, step, scale, eps_at_0, eps_slope, s.max_steps);
-    if (running == 0 || running < count / 2) count = compact<Relaxed>(l, count, records);
+    const int running =
+        step == 1 ? feed_lanes<true, Relaxed, Secant>(l, count, step, scale, eps_at_0, eps_slope, s.max_steps)
+                  : feed_lanes<false, Relaxed, Secant>(l, count, step, scale, eps_at_0, eps_slope, s.max_steps);
+    if (running == 0 || running < count / 2) count = compact<Relaxed, Secant>(l, count, records);
   }
 }
 
 // Marches rays[ids[i]] into records[ids[i]], i < n <= kMaxPacket, where the lanes' step rule does not apply (the
-// fixed marcher's steps and bisections; a secant refinement's extra evaluation): each ray's own Trace
-// (FixedTrace, SphereTrace), fed from shared batches.
+// fixed marcher's steps and bisections): each ray's own Trace, fed from shared batches.
 template <class Trace, class T>
 void march_traces(const sdf::Tape& tape, const PacketRay<T>* rays, int* ids, int n, RayRecord<T>* records,
                   const MarchSettings& s, const MarchContext& c) {
@@ -241,15 +270,13 @@ void march_packet(const sdf::Tape& tape, const PacketRay<T>* rays, RayRecord<T>*
         active[count++] = i;
       }
     }
-    if (s.marcher == Marcher::fixed) {
-      march_traces<FixedTrace<T>>(tape, rays + base, active, count, records + base, s, c);
-    } else if (s.refine == sdf::HitRefine::secant) {
-      march_traces<SphereTrace<T>>(tape, rays + base, active, count, records + base, s, c);
-    } else if (s.marcher == Marcher::relaxed) {
-      march_lanes<true>(tape, rays + base, active, count, records + base, s, c);
-    } else {
-      march_lanes<false>(tape, rays + base, active, count, records + base, s, c);
-    }
+    const bool relaxed = s.marcher == Marcher::relaxed, secant = s.refine == sdf::HitRefine::secant;
+    const auto run = [&](auto path) { path(tape, rays + base, active, count, records + base, s, c); };
+    if (s.marcher == Marcher::fixed) run(march_traces<FixedTrace<T>, T>);
+    else if (relaxed && secant) run(march_lanes<true, true, T>);
+    else if (relaxed) run(march_lanes<true, false, T>);
+    else if (secant) run(march_lanes<false, true, T>);
+    else run(march_lanes<false, false, T>);
   }
 }
 

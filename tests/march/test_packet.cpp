@@ -102,14 +102,17 @@ class EveryBuiltinPacket : public ::testing::TestWithParam<std::string> {};
 
 // In the scene's own marcher, over-relaxed (its packets keep each lane's factor and step back where the unbounding
 // spheres part, as SphereTrace does), in fixed steps with bisection (each ray's FixedTrace fed from batches) and
-// with its hits refined by a secant step (each ray's SphereTrace fed from batches). Broken variants: a relaxed lane that never steps back (march-packet-relaxed-no-step-back), one whose fallback
-// forgets the last forward step (march-packet-relaxed-stale), a bisection that keeps the wrong half
-// (march-fixed-bisects-wrong-half).
+// with its hits refined by a secant step (a lane's extra evaluation at the root), own and relaxed. Broken variants:
+// a relaxed lane that never steps back (march-packet-relaxed-no-step-back), one whose fallback forgets the last
+// forward step (march-packet-relaxed-stale), a bisection that keeps the wrong half (march-fixed-bisects-wrong-half),
+// a secant lane that keeps its root unchecked (march-packet-secant-unchecked) or forgets where it stopped when the
+// packet is compacted (march-packet-secant-compaction-drops-stop).
 TEST_P(EveryBuiltinPacket, SameOutcomesStepsEvaluationsNormalsAndShadowsAsOneRayAtATime) {
-  for (const char* marcher : {"own", "relaxed", "fixed", "secant"}) {
+  for (const std::string marcher : {"own", "relaxed", "fixed", "secant", "relaxed+secant"}) {
     sdf::Scene scene = sdf::builtin_scene(GetParam());
-    if (marcher == std::string("secant")) sdf::apply_setting(scene, "refine", "secant");
-    else if (marcher != std::string("own")) sdf::apply_setting(scene, "marcher", marcher);
+    if (marcher.ends_with("secant")) sdf::apply_setting(scene, "refine", "secant");
+    if (marcher.starts_with("relaxed") || marcher == "fixed")
+      sdf::apply_setting(scene, "marcher", marcher.substr(0, marcher.find('+')));
     const Mismatches m = scene.march.precision == sdf::Precision::float64 ? compare<double>(scene) : compare<float>(scene);
     EXPECT_EQ(m.march, 0) << marcher;
     EXPECT_EQ(m.normals, 0) << marcher;
