@@ -194,6 +194,7 @@ MeshDistance::Leaf<S> MeshDistance::make_leaf(const std::vector<std::array<glm::
                                               std::uint32_t first, std::uint32_t count) {
   Leaf<S> l;
   l.first = first;
+  l.count = count;
   for (std::uint32_t k = 0; k < kLeafWidth; ++k) {
     // Edge vectors as closest_on_triangle computes them, in S.
     const std::uint32_t slot = first + std::min(k, count - 1);

@@ -71,6 +71,8 @@ MARCHCHECK_KERNEL void source(const kernels::Args<T>& k, const Instr& in, Lanes<
       octaves([](T x, T z) { return value_noise<NoiseHash::seed_sin>(x, z); });
     else
       octaves([](T x, T z) { return value_noise<NoiseHash::splitmix>(x, z); });
+  } else if constexpr (kernel_is<Kernel, kernels::mesh<T>>) {
+    k.meshes[k.at]->signed_distances(px, py, pz, r, l.n);  // the lanes' searches start where their neighbours' ended
   } else {
     for (int i = 0; i < l.n; ++i) r[i] = Kernel(k, vec3<T>(px[i], py[i], pz[i]));
   }

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <random>
 
@@ -147,12 +148,11 @@ MeshDistance::Closest<S> brute_force_closest(const MeshDistance& md, glm::vec<3,
   return best;
 }
 
-// Whether the search found a closest triangle exactly as the brute force would: the same distance2 to the bit,
-// and the triangle it names at that distance2, with the feature and point the routine gives for it (on exact
-// ties several triangles share the closest point, e.g. all around a closest vertex).
+// Whether the search found the closest triangle exactly as the brute force would: the same distance2 to the bit,
+// the same triangle (on exact ties, e.g. all around a closest vertex, the lowest index), with the feature and
+// point the routine gives for it.
 template <class S>
-bool same_as_brute_force(const MeshDistance& md, glm::vec<3, S> p) {
-  const auto got = md.closest(p);
+bool same_as_brute_force(const MeshDistance& md, glm::vec<3, S> p, const MeshDistance::Closest<S>& got) {
   const auto all = brute_force_closest(md, p);
   const meshes::Mesh& m = md.mesh();
   const auto& t = m.triangles[got.triangle];
@@ -160,10 +160,16 @@ bool same_as_brute_force(const MeshDistance& md, glm::vec<3, S> p) {
                                               glm::vec<3, S>(m.vertices[t[2]])};
   MeshDistance::Feature feature;
   const glm::vec<3, S> q = meshes::closest_on_triangle(p, corners, feature);
-  return got.distance2 == all.distance2 && glm::dot(p - q, p - q) == all.distance2 && got.feature == feature &&
-         got.point == q;
+  return got.distance2 == all.distance2 && glm::dot(p - q, p - q) == all.distance2 && got.triangle == all.triangle &&
+         got.feature == feature && got.point == q;
+}
+template <class S>
+bool same_as_brute_force(const MeshDistance& md, glm::vec<3, S> p) {
+  return same_as_brute_force(md, p, md.closest(p));
 }
 
+// Broken variants: ties to the first triangle found (mesh-tie-first-found), a box as near as the best pruned
+// (mesh-tie-box-pruned).
 TEST(MeshNode, SearchFindsExactlyTheBruteForceClosestTriangle) {
   // The search prunes boxes by their distance: a box pruned wrongly, or searched in an order that leaves a
   // closer triangle behind, shows here as a distance2 differing from the minimum over all triangles.
@@ -208,6 +214,57 @@ TEST(MeshNode, SearchFindsExactlyTheBruteForceClosestTriangle) {
     EXPECT_EQ(wrong_double, 0) << c.name << " of " << points.size();
     EXPECT_EQ(wrong_float, 0) << c.name << " of " << points.size();
     EXPECT_EQ(wrong_sign, 0) << c.name << " of " << points.size();
+  }
+}
+
+// Coherent points, as a packet's lanes and a ray's steps are: rays from far outside toward each vertex and edge
+// midpoint, each step halving the distance left (so each point lies within the previous one's distance and its
+// search starts from that one's leaf), ending on the vertex or edge, where triangles tie. The batched search
+// gives the brute force's triangle at every point, so the single one's, bit for bit, and signed_distances the
+// single signed_distance. Broken variants: a warm start that keeps its leaf's triangle over a tie with a lower
+// index elsewhere (mesh-tie-first-found), the start leaf skipped in the tree but never searched (mesh-start-leaf-skipped).
+TEST(MeshNode, BatchedSearchFromANeighboursLeafGivesTheSingleSearchesAnswers) {
+  for (const auto& c : cases()) {
+    const MeshDistance md(c.mesh.mesh);
+    const auto& m = md.mesh();
+    std::vector<dvec3> targets(m.vertices.begin(), m.vertices.end());
+    for (const auto& t : m.triangles) targets.push_back((m.vertices[t[0]] + m.vertices[t[1]]) * 0.5);
+    const dvec3 centre = md.bounds().center();
+    const double size = glm::length(md.bounds().size());
+    std::vector<dvec3> points;
+    for (const dvec3& target : targets) {
+      const dvec3 from = target + glm::normalize(target - centre) * size;
+      for (int k = 0; k < 40; ++k) points.push_back(target + (from - target) * std::ldexp(1.0, -k));
+      points.push_back(target);
+    }
+    for (const dvec3 nan_first : {dvec3(NAN, 0, 0), dvec3(0, 0, NAN)}) points.push_back(nan_first);
+    const auto check = [&](auto zero) {
+      using S = decltype(zero);
+      std::vector<glm::vec<3, S>> ps(points.begin(), points.end());
+      std::vector<MeshDistance::Closest<S>> batched(ps.size());
+      md.closest(ps.data(), batched.data(), static_cast<int>(ps.size()));
+      std::vector<S> x, y, z, distances(ps.size());
+      for (const auto& p : ps) {
+        x.push_back(p.x);
+        y.push_back(p.y);
+        z.push_back(p.z);
+      }
+      md.signed_distances(x.data(), y.data(), z.data(), distances.data(), static_cast<int>(ps.size()));
+      int wrong = 0, wrong_distance = 0;
+      for (size_t i = 0; i < ps.size(); ++i) {
+        const S single = md.signed_distance(ps[i]);
+        if (std::isnan(ps[i].x + ps[i].z)) {  // no closest triangle: NaN, not a number from triangle 0
+          EXPECT_TRUE(std::isnan(single) && std::isnan(distances[i])) << c.name;
+          continue;
+        }
+        wrong += !same_as_brute_force(md, ps[i], batched[i]);
+        wrong_distance += std::memcmp(&single, &distances[i], sizeof single) != 0;
+      }
+      EXPECT_EQ(wrong, 0) << c.name << " of " << ps.size();
+      EXPECT_EQ(wrong_distance, 0) << c.name << " of " << ps.size();
+    };
+    check(0.0);
+    check(0.0f);
   }
 }
 

@@ -52,12 +52,22 @@ class MeshDistance {
     glm::vec<3, S> face_normal;   // of the closest triangle, unit length
   };
 
+  // Among triangles at the same distance2 the lowest index in mesh().triangles, as a loop over all of them would
+  // choose: the answer does not depend on the order of the search.
   template <class S>
   Closest<S> closest(glm::vec<3, S> p) const;
+  // closest(points[i]) for each i < n, for coherent points (a packet's neighbouring rays, a ray's next step): a
+  // search starts from the leaf where the previous point's ended, when p lies within that point's distance of it,
+  // so it begins with a bound near its answer and prunes most of the tree. Same answers, bit for bit.
+  template <class S>
+  void closest(const glm::vec<3, S>* points, Closest<S>* out, int n) const;
 
   // Negative inside. T is float, double or Dual of them (the gradient is (p - closest) / distance, signed).
   template <class T>
   T signed_distance(glm::vec<3, T> p) const;
+  // signed_distance at (x[i], y[i], z[i]) for each i < n through the batched closest(); T is float or double.
+  template <class T>
+  void signed_distances(const T* x, const T* y, const T* z, T* out, int n) const;
 
   // The float search's triangles in its order: what a shader needs to find closest<float>'s squared distance
   // (sdf::glsl_map), its runs of kLeafWidth being the search's leaves.
@@ -72,9 +82,10 @@ class MeshDistance {
     std::array<S, kLeafWidth> a[3], b[3], c[3], ab[3], ac[3], bc[3];
     std::array<S, kLeafWidth> n[3], across_ab[3], across_ac[3], across_bc[3];  // meshes::TriangleFrame
     std::uint32_t first;  // BVH position of lane 0
+    std::uint32_t count;  // lanes that are triangles of their own
   };
   // Four children's boxes side by side (per axis, then child), tested together. A child is an inner node, or a
-  // leaf with kLeafBit set; an unused one has an empty box (lo = +inf), which is never nearer than any distance.
+  // leaf with kLeafBit set; an unused one has an empty box (lo = +inf), at +inf from every point: never searched.
   static constexpr std::uint32_t kLeafBit = 1u << 31;
   template <class S>
   struct BvhNode {
@@ -98,6 +109,24 @@ class MeshDistance {
   std::uint32_t split(std::vector<BinaryNode>& binary, const std::vector<glm::dvec3>& centroids, std::uint32_t first,
                       std::uint32_t count);
   std::uint32_t collapse(const std::vector<BinaryNode>& binary, std::uint32_t at, bool root, Arrays<double>& d);
+
+  // A search's result before the closest point is computed: the squared distance, the BVH position and the leaf.
+  static constexpr std::uint32_t kNoLeaf = ~0u;
+  template <class S>
+  struct Found {
+    S best2;
+    std::uint32_t slot, leaf;
+  };
+  // The closest triangle to p, starting from leaf `start` (kNoLeaf: from the root alone).
+  template <class S>
+  Found<S> search(glm::vec<3, S> p, std::uint32_t start) const;
+  // Takes leaf `index`'s triangles into `found` (nearer, or as near with a lower triangle index).
+  template <class S>
+  void take_leaf(glm::vec<3, S> p, std::uint32_t index, Found<S>& found) const;
+  template <class S>
+  Closest<S> closest_of(glm::vec<3, S> p, const Found<S>& found) const;
+  template <class S>
+  static S sign_times_distance(glm::vec<3, S> p, const Closest<S>& c);
 
   template <class S>
   const Arrays<S>& arrays() const {
@@ -189,7 +218,7 @@ inline void boxes_distance2(glm::vec<3, S> p, const std::array<S, 4> (&lo)[3], c
   for (int i = 0; i < 3; ++i) {
     const V below = lanes(lo[i]) - p[i], above = p[i] - lanes(hi[i]);
     V d = below > above ? below : above;
-    d = d > 0 ? d : V{};
+    d = d < 0 ? V{} : d;  // NaN stays NaN (a point with a NaN coordinate searches nothing)
     sum = i == 0 ? d * d : sum + d * d;
   }
   std::memcpy(out, &sum, sizeof sum);
@@ -199,13 +228,27 @@ inline void boxes_distance2(glm::vec<3, S> p, const std::array<S, 4> (&lo)[3], c
 }  // namespace detail
 
 template <class S>
-MeshDistance::Closest<S> MeshDistance::closest(glm::vec<3, S> p) const {
+void MeshDistance::take_leaf(glm::vec<3, S> p, std::uint32_t index, Found<S>& found) const {
+  const Leaf<S>& l = arrays<S>().leaves[index];
+  S d2[kLeafWidth];
+  detail::leaf_distance2(p, l, d2);
+  for (std::uint32_t k = 0; k < l.count; ++k)
+    if (d2[k] < found.best2 || (d2[k] == found.best2 && order_[l.first + k] < order_[found.slot])) {
+      found.best2 = d2[k];
+      found.slot = l.first + k;
+      found.leaf = index;
+    }
+}
+
+template <class S>
+MeshDistance::Found<S> MeshDistance::search(glm::vec<3, S> p, std::uint32_t start) const {
   const Arrays<S>& a = arrays<S>();
-  S best2 = std::numeric_limits<S>::infinity();
-  std::uint32_t best_slot = 0;
+  Found<S> found{std::numeric_limits<S>::infinity(), 0, kNoLeaf};
+  if (start != kNoLeaf) take_leaf(p, start, found);
   // Nodes still to search with their boxes' distance2, pruned on popping against the best found by then; the
   // nearest child is searched at once, the others wait on the stack, nearer ones on top. The collapsed median
-  // tree is at most 32 levels deep, with three waiting per level.
+  // tree is at most 32 levels deep, with three waiting per level. A box as near as the best is searched: it may
+  // hold a tie with a lower triangle index.
   struct Pending {
     std::uint32_t node;
     S box2;
@@ -215,23 +258,16 @@ MeshDistance::Closest<S> MeshDistance::closest(glm::vec<3, S> p) const {
   std::uint32_t at = 0;
   for (;;) {
     if (at & kLeafBit) {
-      const Leaf<S>& l = a.leaves[at & ~kLeafBit];
-      S d2[kLeafWidth];
-      detail::leaf_distance2(p, l, d2);
-      // In lane order: a repeated last triangle never beats its first lane.
-      for (std::uint32_t k = 0; k < kLeafWidth; ++k)
-        if (d2[k] < best2) {
-          best2 = d2[k];
-          best_slot = l.first + k;
-        }
+      if ((at & ~kLeafBit) != start) take_leaf(p, at & ~kLeafBit, found);
     } else {
       const BvhNode<S>& n = a.nodes[at];
       S box2[4];
       detail::boxes_distance2(p, n.lo, n.hi, box2);
-      // The children nearer than the best, nearest first.
+      // The children as near as the best or nearer, nearest first; never a box at +inf (an unused child's, or any
+      // box seen from a point so far that its distance overflows), even before anything is found.
       int near[4], count = 0;
       for (int k = 0; k < 4; ++k) {
-        if (!(box2[k] < best2)) continue;
+        if (!(box2[k] <= found.best2 && box2[k] < std::numeric_limits<S>::infinity())) continue;
         int j = count++;
         for (; j > 0 && box2[near[j - 1]] > box2[k]; --j) near[j] = near[j - 1];
         near[j] = k;
@@ -242,17 +278,49 @@ MeshDistance::Closest<S> MeshDistance::closest(glm::vec<3, S> p) const {
         continue;
       }
     }
-    while (top > 0 && !(stack[top - 1].box2 < best2)) --top;
+    while (top > 0 && !(stack[top - 1].box2 <= found.best2)) --top;
     if (top == 0) break;
     at = stack[--top].node;
   }
+  return found;
+}
+
+template <class S>
+MeshDistance::Closest<S> MeshDistance::closest_of(glm::vec<3, S> p, const Found<S>& found) const {
+  const Arrays<S>& a = arrays<S>();
   Closest<S> best;
-  best.point = meshes::closest_on_triangle(p, a.corners[best_slot], best.feature);
-  best.distance2 = best2;
-  best.triangle = order_[best_slot];
-  best.pseudonormal = a.normals[best_slot][best.feature];
-  best.face_normal = a.normals[best_slot][meshes::face];
+  best.point = meshes::closest_on_triangle(p, a.corners[found.slot], best.feature);
+  // Where no triangle was found (a point with a NaN coordinate, or so far that every distance overflows), the
+  // distance to triangle 0's point: NaN or +inf, never a finite number.
+  best.distance2 = found.leaf == kNoLeaf ? glm::dot(p - best.point, p - best.point) : found.best2;
+  best.triangle = order_[found.slot];
+  best.pseudonormal = a.normals[found.slot][best.feature];
+  best.face_normal = a.normals[found.slot][meshes::face];
   return best;
+}
+
+template <class S>
+MeshDistance::Closest<S> MeshDistance::closest(glm::vec<3, S> p) const {
+  return closest_of(p, search(p, kNoLeaf));
+}
+
+template <class S>
+void MeshDistance::closest(const glm::vec<3, S>* points, Closest<S>* out, int n) const {
+  Found<S> previous{0, 0, kNoLeaf};
+  for (int i = 0; i < n; ++i) {
+    const glm::vec<3, S> p = points[i], step = i > 0 ? p - points[i - 1] : glm::vec<3, S>(0);
+    // Within the previous point's distance, that point's closest triangle lies within twice that distance of p: a
+    // bound worth starting from. NaN compares false: from the root.
+    const bool near = previous.leaf != kNoLeaf && glm::dot(step, step) <= previous.best2;
+    previous = search(p, near ? previous.leaf : kNoLeaf);
+    out[i] = closest_of(p, previous);
+  }
+}
+
+template <class S>
+S MeshDistance::sign_times_distance(glm::vec<3, S> p, const Closest<S>& c) {
+  const S d = std::sqrt(c.distance2);
+  return glm::dot(p - c.point, c.pseudonormal) < 0 ? -d : d;
 }
 
 template <class T>
@@ -260,14 +328,27 @@ T MeshDistance::signed_distance(glm::vec<3, T> p) const {
   using S = decltype(value_of(T{}));
   const glm::vec<3, S> q(value_of(p.x), value_of(p.y), value_of(p.z));
   const Closest<S> c = closest(q);
-  const S d = std::sqrt(c.distance2);
-  const S sign = glm::dot(q - c.point, c.pseudonormal) < 0 ? S(-1) : S(1);
   if constexpr (is_dual<T>::value) {
+    const S d = std::sqrt(c.distance2);
+    const S sign = glm::dot(q - c.point, c.pseudonormal) < 0 ? S(-1) : S(1);
     // On the surface the direction to the closest point vanishes; the pseudonormal stands in for it.
     const glm::vec<3, S> g = d > 0 ? (q - c.point) * (sign / d) : glm::normalize(c.pseudonormal);
     return T(sign * d, p.x.d * g.x + p.y.d * g.y + p.z.d * g.z);
   } else {
-    return sign * d;
+    return sign_times_distance(q, c);
+  }
+}
+
+template <class T>
+void MeshDistance::signed_distances(const T* x, const T* y, const T* z, T* out, int n) const {
+  constexpr int kChunk = 64;  // points per batched search, on the stack
+  glm::vec<3, T> points[kChunk];
+  Closest<T> found[kChunk];
+  for (int base = 0; base < n; base += kChunk) {
+    const int m = std::min(kChunk, n - base);
+    for (int i = 0; i < m; ++i) points[i] = {x[base + i], y[base + i], z[base + i]};
+    closest(points, found, m);
+    for (int i = 0; i < m; ++i) out[base + i] = sign_times_distance(points[i], found[i]);
   }
 }
 
