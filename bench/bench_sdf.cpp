@@ -1,10 +1,14 @@
 // SDF evaluations per second: lee-flat written by hand in C++, as a compiled tape, and as a tape compiled from
 // the scene's JSON text; then every built-in scene's tape, one point at a time (Tape) and in batches (Batch), on
-// one thread and on all (tasks of 256 points under oneTBB, as the renderer's tiles); or, given scene files
-// (bench_sdf --scene my.json), theirs. Compare "evals/s" of
+// one thread and on all (tasks of 256 points under oneTBB, as the renderer's tiles), and its camera's rays
+// marched one at a time (MarchRays) and as packets (MarchPackets); or, given scene files (bench_sdf --scene
+// my.json), theirs. Compare "evals/s" of
 // BM_LeeFlatCpp and BM_LeeFlatTape to read what the tape interpreter costs over hand-written code, and
 // BM_LeeFlatGlsl (hand-written GLSL) and BM_LeeFlatExportedGlsl (the built-in exported and imported back) beside
 // BM_LeeFlatTape for what a field imported from GLSL costs.
+#include "marchcheck/march/camera.hpp"
+#include "marchcheck/march/packet.hpp"
+#include "marchcheck/march/render.hpp"
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/glsl_export.hpp"
 #include "marchcheck/sdf/glsl_field.hpp"
@@ -149,6 +153,47 @@ void register_scene(const sdf::Scene& scene, const Points& points_of_scene) {
   })->Arg(1)->Arg(all)->ArgName("threads")->UseRealTime();
 }
 
+// The scene's camera rays at 160x90 marched on one thread with its own settings, one ray at a time through the
+// one-point tape (BM_SceneMarchRays/NAME) and as packets through the batched tape (BM_SceneMarchPackets/NAME):
+// the same steps (tests/march/test_packet.cpp), so their evals/s compare the two paths on coherent points, where
+// neighbouring lanes' queries share work (a mesh's search starts from the neighbour's leaf).
+void register_march(const sdf::Scene& scene) {
+  using marchcheck::march::PacketRay;
+  using marchcheck::march::RayRecord;
+  const auto tape = std::make_shared<const sdf::Tape>(sdf::compile(scene));
+  const marchcheck::march::Camera camera(scene.camera, 160, 90);
+  const marchcheck::march::MarchContext context =
+      marchcheck::march::march_context(camera, sdf::derive_info(scene.root, scene.time).lipschitz);
+  auto rays = std::make_shared<std::vector<PacketRay<float>>>();
+  for (int y = 0; y < 90; ++y)
+    for (int x = 0; x < 160; ++x) {
+      const marchcheck::march::Ray ray = camera.ray(x + 0.5, y + 0.5);
+      rays->push_back({glm::vec3(ray.origin), glm::vec3(ray.direction), scene.march.max_dist});
+    }
+  const auto evals_per_second = [rays](benchmark::State& state, const std::vector<RayRecord<float>>& records) {
+    double evals = 0;
+    for (const auto& r : records) evals += r.evals;
+    state.counters["evals/s"] = benchmark::Counter(evals * static_cast<double>(state.iterations()),
+                                                   benchmark::Counter::kIsRate);
+  };
+  const sdf::MarchSettings settings = scene.march;
+  benchmark::RegisterBenchmark(("BM_SceneMarchRays/" + scene.name).c_str(), [=](benchmark::State& state) {
+    std::vector<RayRecord<float>> records(rays->size());
+    const marchcheck::march::TapeField field{tape.get()};
+    for (auto _ : state)
+      for (size_t i = 0; i < rays->size(); ++i)
+        records[i] = marchcheck::march::march<float>(field, (*rays)[i].origin, (*rays)[i].direction, settings, context);
+    evals_per_second(state, records);
+  });
+  benchmark::RegisterBenchmark(("BM_SceneMarchPackets/" + scene.name).c_str(), [=](benchmark::State& state) {
+    std::vector<RayRecord<float>> records(rays->size());
+    for (auto _ : state)
+      marchcheck::march::march_packet(*tape, rays->data(), records.data(), static_cast<int>(rays->size()), settings,
+                                      context);
+    evals_per_second(state, records);
+  });
+}
+
 // A scene file's points: 1.2 times the box its field's zero set lies in (a mesh's: its bounding box), or the
 // built-ins' box where that is unbounded (a plane, a repetition).
 Points points_for(const sdf::Scene& scene) {
@@ -176,14 +221,17 @@ int main(int argc, char** argv) {
     for (const std::string& file : files) {
       const sdf::Scene scene = sdf::load_scene_file(file);
       register_scene(scene, file_points.emplace_back(points_for(scene)));
+      register_march(scene);
     }
   } catch (const std::exception& e) {
     std::cerr << "bench_sdf: " << e.what() << "\n";
     return 2;
   }
   if (files.empty())
-    for (const std::string& name : sdf::builtin_scene_names())
+    for (const std::string& name : sdf::builtin_scene_names()) {
       register_scene(sdf::builtin_scene(name), points());
+      register_march(sdf::builtin_scene(name));
+    }
   int count = static_cast<int>(args.size());
   benchmark::Initialize(&count, args.data());
   if (benchmark::ReportUnrecognizedArguments(count, args.data())) return 2;

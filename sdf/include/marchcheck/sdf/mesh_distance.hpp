@@ -52,13 +52,13 @@ class MeshDistance {
     glm::vec<3, S> face_normal;   // of the closest triangle, unit length
   };
 
-  // Among triangles at the same distance2 the lowest index in mesh().triangles, as a loop over all of them would
-  // choose: the answer does not depend on the order of the search.
   template <class S>
   Closest<S> closest(glm::vec<3, S> p) const;
   // closest(points[i]) for each i < n, for coherent points (a packet's neighbouring rays, a ray's next step): a
   // search starts from the leaf where the previous point's ended, when p lies within that point's distance of it,
-  // so it begins with a bound near its answer and prunes most of the tree. Same answers, bit for bit.
+  // so it begins with a bound near its answer and prunes most of the tree. The same distance2; on an exact tie
+  // (triangles around a closest vertex or edge) possibly another of the tied triangles, which share the closest
+  // point's feature and so its pseudonormal and sign.
   template <class S>
   void closest(const glm::vec<3, S>* points, Closest<S>* out, int n) const;
 
@@ -85,7 +85,7 @@ class MeshDistance {
     std::uint32_t count;  // lanes that are triangles of their own
   };
   // Four children's boxes side by side (per axis, then child), tested together. A child is an inner node, or a
-  // leaf with kLeafBit set; an unused one has an empty box (lo = +inf), at +inf from every point: never searched.
+  // leaf with kLeafBit set; an unused one has an empty box (lo = +inf), which is never nearer than any distance.
   static constexpr std::uint32_t kLeafBit = 1u << 31;
   template <class S>
   struct BvhNode {
@@ -120,7 +120,7 @@ class MeshDistance {
   // The closest triangle to p, starting from leaf `start` (kNoLeaf: from the root alone).
   template <class S>
   Found<S> search(glm::vec<3, S> p, std::uint32_t start) const;
-  // Takes leaf `index`'s triangles into `found` (nearer, or as near with a lower triangle index).
+  // Takes those of leaf `index`'s triangles nearer than the best so far into `found`.
   template <class S>
   void take_leaf(glm::vec<3, S> p, std::uint32_t index, Found<S>& found) const;
   template <class S>
@@ -233,7 +233,7 @@ void MeshDistance::take_leaf(glm::vec<3, S> p, std::uint32_t index, Found<S>& fo
   S d2[kLeafWidth];
   detail::leaf_distance2(p, l, d2);
   for (std::uint32_t k = 0; k < l.count; ++k)
-    if (d2[k] < found.best2 || (d2[k] == found.best2 && order_[l.first + k] < order_[found.slot])) {
+    if (d2[k] < found.best2) {
       found.best2 = d2[k];
       found.slot = l.first + k;
       found.leaf = index;
@@ -247,8 +247,7 @@ MeshDistance::Found<S> MeshDistance::search(glm::vec<3, S> p, std::uint32_t star
   if (start != kNoLeaf) take_leaf(p, start, found);
   // Nodes still to search with their boxes' distance2, pruned on popping against the best found by then; the
   // nearest child is searched at once, the others wait on the stack, nearer ones on top. The collapsed median
-  // tree is at most 32 levels deep, with three waiting per level. A box as near as the best is searched: it may
-  // hold a tie with a lower triangle index.
+  // tree is at most 32 levels deep, with three waiting per level.
   struct Pending {
     std::uint32_t node;
     S box2;
@@ -263,11 +262,10 @@ MeshDistance::Found<S> MeshDistance::search(glm::vec<3, S> p, std::uint32_t star
       const BvhNode<S>& n = a.nodes[at];
       S box2[4];
       detail::boxes_distance2(p, n.lo, n.hi, box2);
-      // The children as near as the best or nearer, nearest first; never a box at +inf (an unused child's, or any
-      // box seen from a point so far that its distance overflows), even before anything is found.
+      // The children nearer than the best, nearest first.
       int near[4], count = 0;
       for (int k = 0; k < 4; ++k) {
-        if (!(box2[k] <= found.best2 && box2[k] < std::numeric_limits<S>::infinity())) continue;
+        if (!(box2[k] < found.best2)) continue;
         int j = count++;
         for (; j > 0 && box2[near[j - 1]] > box2[k]; --j) near[j] = near[j - 1];
         near[j] = k;
@@ -278,7 +276,7 @@ MeshDistance::Found<S> MeshDistance::search(glm::vec<3, S> p, std::uint32_t star
         continue;
       }
     }
-    while (top > 0 && !(stack[top - 1].box2 <= found.best2)) --top;
+    while (top > 0 && !(stack[top - 1].box2 < found.best2)) --top;
     if (top == 0) break;
     at = stack[--top].node;
   }
