@@ -170,7 +170,7 @@ void register_march(const sdf::Scene& scene) {
       const marchcheck::march::Ray ray = camera.ray(x + 0.5, y + 0.5);
       rays->push_back({glm::vec3(ray.origin), glm::vec3(ray.direction), scene.march.max_dist});
     }
-  const auto evals_per_second = [rays](benchmark::State& state, const std::vector<RayRecord<float>>& records) {
+  const auto evals_per_second = [](benchmark::State& state, const std::vector<RayRecord<float>>& records) {
     double evals = 0;
     for (const auto& r : records) evals += r.evals;
     state.counters["evals/s"] = benchmark::Counter(evals * static_cast<double>(state.iterations()),
@@ -229,8 +229,9 @@ int main(int argc, char** argv) {
   }
   if (files.empty())
     for (const std::string& name : sdf::builtin_scene_names()) {
-      register_scene(sdf::builtin_scene(name), points());
-      register_march(sdf::builtin_scene(name));
+      const sdf::Scene scene = sdf::builtin_scene(name);
+      register_scene(scene, points());
+      register_march(scene);
     }
   int count = static_cast<int>(args.size());
   benchmark::Initialize(&count, args.data());

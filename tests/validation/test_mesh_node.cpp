@@ -220,7 +220,9 @@ TEST(MeshNode, SearchFindsExactlyTheBruteForceClosestTriangle) {
 // search starts from that one's leaf), ending on the vertex or edge, where triangles tie. The batched search
 // finds the brute force's distance2 at every point with a triangle at that distance, and signed_distances gives
 // the single signed_distance bit for bit (a tied triangle shares the closest point's feature, so its sign).
-// Broken variant: the start leaf skipped in the tree but never searched (mesh-start-leaf-skipped).
+// Broken variants: the start leaf skipped in the tree but never searched (sdf-mesh-start-leaf-skipped); a NaN
+// point at distance 0 from every box, searching forever (sdf-mesh-nan-box-zero); or given +inf when no triangle
+// was found (sdf-mesh-nothing-found-infinite).
 TEST(MeshNode, BatchedSearchFromANeighboursLeafGivesTheSingleSearchesAnswers) {
   for (const auto& c : cases()) {
     const MeshDistance md(c.mesh.mesh);

@@ -125,8 +125,9 @@ class MeshDistance {
   void take_leaf(glm::vec<3, S> p, std::uint32_t index, Found<S>& found) const;
   template <class S>
   Closest<S> closest_of(glm::vec<3, S> p, const Found<S>& found) const;
+  // -1 where p lies inside by the closest point's pseudonormal, else 1.
   template <class S>
-  static S sign_times_distance(glm::vec<3, S> p, const Closest<S>& c);
+  static S outward_sign(glm::vec<3, S> p, const Closest<S>& c);
 
   template <class S>
   const Arrays<S>& arrays() const {
@@ -316,9 +317,8 @@ void MeshDistance::closest(const glm::vec<3, S>* points, Closest<S>* out, int n)
 }
 
 template <class S>
-S MeshDistance::sign_times_distance(glm::vec<3, S> p, const Closest<S>& c) {
-  const S d = std::sqrt(c.distance2);
-  return glm::dot(p - c.point, c.pseudonormal) < 0 ? -d : d;
+S MeshDistance::outward_sign(glm::vec<3, S> p, const Closest<S>& c) {
+  return glm::dot(p - c.point, c.pseudonormal) < 0 ? S(-1) : S(1);
 }
 
 template <class T>
@@ -326,14 +326,13 @@ T MeshDistance::signed_distance(glm::vec<3, T> p) const {
   using S = decltype(value_of(T{}));
   const glm::vec<3, S> q(value_of(p.x), value_of(p.y), value_of(p.z));
   const Closest<S> c = closest(q);
+  const S d = std::sqrt(c.distance2), sign = outward_sign(q, c);
   if constexpr (is_dual<T>::value) {
-    const S d = std::sqrt(c.distance2);
-    const S sign = glm::dot(q - c.point, c.pseudonormal) < 0 ? S(-1) : S(1);
     // On the surface the direction to the closest point vanishes; the pseudonormal stands in for it.
     const glm::vec<3, S> g = d > 0 ? (q - c.point) * (sign / d) : glm::normalize(c.pseudonormal);
     return T(sign * d, p.x.d * g.x + p.y.d * g.y + p.z.d * g.z);
   } else {
-    return sign_times_distance(q, c);
+    return sign * d;
   }
 }
 
@@ -346,7 +345,7 @@ void MeshDistance::signed_distances(const T* x, const T* y, const T* z, T* out, 
     const int m = std::min(kChunk, n - base);
     for (int i = 0; i < m; ++i) points[i] = {x[base + i], y[base + i], z[base + i]};
     closest(points, found, m);
-    for (int i = 0; i < m; ++i) out[base + i] = sign_times_distance(points[i], found[i]);
+    for (int i = 0; i < m; ++i) out[base + i] = outward_sign(points[i], found[i]) * std::sqrt(found[i].distance2);
   }
 }
 
