@@ -185,13 +185,26 @@ void register_march(const sdf::Scene& scene) {
         records[i] = marchcheck::march::march<float>(field, (*rays)[i].origin, (*rays)[i].direction, settings, context);
     evals_per_second(state, records);
   });
-  benchmark::RegisterBenchmark(("BM_SceneMarchPackets/" + scene.name).c_str(), [=](benchmark::State& state) {
-    std::vector<RayRecord<float>> records(rays->size());
-    for (auto _ : state)
-      marchcheck::march::march_packet(*tape, rays->data(), records.data(), static_cast<int>(rays->size()), settings,
-                                      context);
-    evals_per_second(state, records);
-  });
+  const auto packets = [=](const std::string& name, const sdf::MarchSettings& s) {
+    benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& state) {
+      std::vector<RayRecord<float>> records(rays->size());
+      for (auto _ : state)
+        marchcheck::march::march_packet(*tape, rays->data(), records.data(), static_cast<int>(rays->size()), s,
+                                        context);
+      evals_per_second(state, records);
+    });
+  };
+  packets("BM_SceneMarchPackets/" + scene.name, settings);
+  // Each marcher on the same rays (BM_SceneMarcher/NAME/MARCHER): seconds should follow evaluations, so their
+  // evals/s should agree (within 1.2x, issue 16) whatever the marcher's bookkeeping.
+  for (const char* marcher : {"sphere", "relaxed", "scaled", "fixed", "sphere+secant", "relaxed+secant"}) {
+    sdf::Scene variant = scene;
+    const std::string_view name(marcher);
+    const size_t plus = name.find('+');
+    sdf::apply_setting(variant, "marcher", std::string(name.substr(0, plus)));
+    sdf::apply_setting(variant, "refine", plus == std::string_view::npos ? "none" : "secant");
+    packets("BM_SceneMarcher/" + scene.name + "/" + marcher, variant.march);
+  }
 }
 
 // A scene file's points: 1.2 times the box its field's zero set lies in (a mesh's: its bounding box), or the

@@ -101,12 +101,12 @@ Mismatches compare(const sdf::Scene& scene) {
 class EveryBuiltinPacket : public ::testing::TestWithParam<std::string> {};
 
 // In the scene's own marcher, over-relaxed (its packets keep each lane's factor and step back where the unbounding
-// spheres part, as SphereTrace does), in fixed steps with bisection (each ray's FixedTrace fed from batches) and
-// with its hits refined by a secant step (a lane's extra evaluation at the root), own and relaxed. Broken variants:
-// a relaxed lane that never steps back (march-packet-relaxed-no-step-back), one whose fallback forgets the last
-// forward step (march-packet-relaxed-stale), a bisection that keeps the wrong half (march-fixed-bisects-wrong-half),
-// a secant lane that keeps its root unchecked (march-packet-secant-unchecked) or forgets where it stopped when the
-// packet is compacted (march-packet-secant-compaction-drops-stop).
+// spheres part, as SphereTrace does), in fixed steps with bisection (lanes stepping by FixedTrace's rule) and with
+// its hits refined by a secant step (one batch more at the roots once the lanes ended), own and relaxed. Broken
+// variants: a relaxed lane that never steps back (march-packet-relaxed-no-step-back), one whose fallback forgets
+// the last forward step (march-packet-relaxed-stale), a bisection that keeps the wrong half
+// (march-fixed-bisects-wrong-half), a secant root kept unchecked (march-packet-secant-unchecked), compaction that
+// leaves a lane's last forward f behind (march-packet-compaction-drops-prev-f).
 TEST_P(EveryBuiltinPacket, SameOutcomesStepsEvaluationsNormalsAndShadowsAsOneRayAtATime) {
   for (const std::string marcher : {"own", "relaxed", "fixed", "secant", "relaxed+secant"}) {
     sdf::Scene scene = sdf::builtin_scene(GetParam());
@@ -160,6 +160,53 @@ TEST(Packet, InvalidSettingsAndRaysEndInvalidAsOneRayAtATime) {
       EXPECT_EQ(records[i].outcome == Outcome::invalid, std::isnan(step_scale) || i > 0) << i;
     }
   }
+}
+
+// Lanes at their rules' edges, against march() on lee-flat's ground (f = y exactly, far from the sphere): fixed
+// steps, one landing exactly on the surface with a zero threshold (not a hit: the next step crosses and the bracket
+// starts there), bisections cut short by max_steps (the ray ends at the bracket's outer end); sphere traced and
+// relaxed hits refined by a secant step, some on their last allowed step (no extra evaluation then); a start
+// inside, a ray away from the ground. Broken variants: a fixed lane whose bracket forgets a step of f = 0
+// (march-packet-fixed-zero-step-forgotten), one cut short at the midpoint it would evaluate next
+// (march-packet-fixed-cut-short-at-mid), a secant step one past max_steps (march-packet-secant-past-last-step).
+TEST(Packet, LanesEndAsOneRayAtATimeAtTheRulesEdges) {
+  const sdf::Tape tape = sdf::compile(sdf::builtin_scene("lee-flat").root);
+  const auto one_point = [&tape](glm::vec3 p) { return sdf::evaluate(tape, p); };
+  const MarchContext c;
+  const std::vector<PacketRay<float>> rays = {{glm::vec3(5, 1, 0), glm::vec3(0, -1, 0), 100},
+                                              {glm::vec3(5, 1, 3), glm::vec3(0.6f, -0.8f, 0), 100},
+                                              {glm::vec3(5, -1, 0), glm::vec3(0, -1, 0), 100},
+                                              {glm::vec3(5, 1, -3), glm::vec3(0, 1, 0), 3}};
+  int cut_short = 0, zero_steps = 0, hits_on_last_step = 0;
+  for (const Marcher marcher : {Marcher::fixed, Marcher::sphere, Marcher::relaxed})
+    for (const double eps : {0.0, 0.01})
+      for (const double step : {0.5, 0.3})
+        for (const int max_steps : {3, 4, 5, 8, 200}) {
+          MarchSettings s;
+          s.marcher = marcher;
+          s.refine = marcher == Marcher::fixed ? sdf::HitRefine::none : sdf::HitRefine::secant;
+          s.hit_eps = eps;
+          s.fixed_step = step;
+          s.max_steps = max_steps;
+          std::vector<RayRecord<float>> records(rays.size());
+          march_packet(tape, rays.data(), records.data(), static_cast<int>(rays.size()), s, c);
+          for (size_t i = 0; i < rays.size(); ++i) {
+            MarchSettings own = s;
+            own.max_dist = rays[i].max_dist;
+            const RayRecord<float> alone = march<float>(one_point, rays[i].origin, rays[i].direction, own, c);
+            EXPECT_TRUE(same(records[i], alone)) << "ray " << i << " marcher " << static_cast<int>(marcher) << " eps "
+                                                 << eps << " step " << step << " max_steps " << max_steps << ": t "
+                                                 << records[i].t << " against " << alone.t;
+            const bool fixed = marcher == Marcher::fixed;
+            cut_short += fixed && alone.outcome == Outcome::miss_steps && i < 2 && alone.t < 2;
+            zero_steps += fixed && eps == 0 && step == 0.5 && i == 0 && alone.outcome == Outcome::hit;
+            hits_on_last_step += !fixed && alone.outcome == Outcome::hit && alone.steps == max_steps;
+          }
+        }
+  // Each edge was reached (else the case tests nothing).
+  EXPECT_GT(cut_short, 0);
+  EXPECT_GT(zero_steps, 0);
+  EXPECT_GT(hits_on_last_step, 0);
 }
 
 }  // namespace
