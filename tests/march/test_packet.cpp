@@ -162,22 +162,24 @@ TEST(Packet, InvalidSettingsAndRaysEndInvalidAsOneRayAtATime) {
   }
 }
 
-// Lanes at their rules' edges, against march() on lee-flat's ground (f = y exactly, far from the sphere): fixed
+// Lanes at their rules' edges, against march() on the plane y = 0 (f = y exactly): fixed
 // steps, one landing exactly on the surface with a zero threshold (not a hit: the next step crosses and the bracket
 // starts there), bisections cut short by max_steps (the ray ends at the bracket's outer end); sphere traced and
-// relaxed hits refined by a secant step, some on their last allowed step (no extra evaluation then); a start
-// inside, a ray away from the ground. Broken variants: a fixed lane whose bracket forgets a step of f = 0
+// relaxed hits refined by a secant step, some on their last allowed step (no extra evaluation then); starts
+// inside, one 1.5 thresholds deep; a ray away from the ground. Broken variants: an inside test at twice the depth
+// (march-packet-inside-threshold), a fixed lane whose bracket forgets a step of f = 0
 // (march-packet-fixed-zero-step-forgotten), one cut short at the midpoint it would evaluate next
 // (march-packet-fixed-cut-short-at-mid), a secant step one past max_steps (march-packet-secant-past-last-step).
 TEST(Packet, LanesEndAsOneRayAtATimeAtTheRulesEdges) {
-  const sdf::Tape tape = sdf::compile(sdf::builtin_scene("lee-flat").root);
+  const sdf::Tape tape = sdf::compile(sdf::plane({0, 1, 0}, 0));
   const auto one_point = [&tape](glm::vec3 p) { return sdf::evaluate(tape, p); };
   const MarchContext c;
   const std::vector<PacketRay<float>> rays = {{glm::vec3(5, 1, 0), glm::vec3(0, -1, 0), 100},
                                               {glm::vec3(5, 1, 3), glm::vec3(0.6f, -0.8f, 0), 100},
                                               {glm::vec3(5, -1, 0), glm::vec3(0, -1, 0), 100},
+                                              {glm::vec3(5, -0.015f, 0), glm::vec3(0, -1, 0), 100},
                                               {glm::vec3(5, 1, -3), glm::vec3(0, 1, 0), 3}};
-  int cut_short = 0, zero_steps = 0, hits_on_last_step = 0;
+  int cut_short = 0, zero_steps = 0, hits_on_last_step = 0, shallow_inside = 0;
   for (const Marcher marcher : {Marcher::fixed, Marcher::sphere, Marcher::relaxed})
     for (const double eps : {0.0, 0.01})
       for (const double step : {0.5, 0.3})
@@ -199,6 +201,7 @@ TEST(Packet, LanesEndAsOneRayAtATimeAtTheRulesEdges) {
                                                  << records[i].t << " against " << alone.t;
             const bool fixed = marcher == Marcher::fixed;
             cut_short += fixed && alone.outcome == Outcome::miss_steps && i < 2 && alone.t < 2;
+            shallow_inside += i == 3 && eps > 0 && alone.outcome == Outcome::inside;
             zero_steps += fixed && eps == 0 && step == 0.5 && i == 0 && alone.outcome == Outcome::hit;
             hits_on_last_step += !fixed && alone.outcome == Outcome::hit && alone.steps == max_steps;
           }
@@ -207,6 +210,7 @@ TEST(Packet, LanesEndAsOneRayAtATimeAtTheRulesEdges) {
   EXPECT_GT(cut_short, 0);
   EXPECT_GT(zero_steps, 0);
   EXPECT_GT(hits_on_last_step, 0);
+  EXPECT_GT(shallow_inside, 0);
 }
 
 }  // namespace
