@@ -107,7 +107,9 @@ int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slop
       const T ahead = t + forward_step;
       next = back ? back_to : ahead;
     }
-    I code = !back && next > l.max_dist[i] ? miss_far : out_of_steps;
+    // As SphereTrace: past max_dist where a plain step passes it too (an over-relaxed one may yet step back).
+    const T plain_reach = t + v * scale;
+    I code = !back & (next > l.max_dist[i]) & (plain_reach > l.max_dist[i]) ? miss_far : out_of_steps;
     const I moved = code;  // t moves on unless the step below ends the ray where it is
     code = !back && v < eps ? hit : code;
     if constexpr (First) code = v < -eps ? inside : code;
@@ -237,6 +239,13 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
                  const MarchSettings& s, const MarchContext& c) {
   Lanes<T> l;
   SecantRoots<T> roots;
+  std::fill_n(l.min_abs, n, std::numeric_limits<T>::infinity());
+  std::fill_n(l.last_f, n, std::numeric_limits<T>::infinity());
+  std::fill_n(l.t_at_min, n, T(0));
+  std::fill_n(l.code, n, Int<T>(kRunning));
+  for (T* a : {l.prev_f, l.hi}) std::fill_n(a, n, T(0));
+  std::fill_n(l.omega, n, T(s.relaxation));
+  std::fill_n(l.bisecting, n, Int<T>(0));
   for (int i = 0; i < n; ++i) {
     const PacketRay<T>& ray = rays[ids[i]];
     l.ox[i] = ray.origin.x;
@@ -245,17 +254,12 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
     l.dx[i] = ray.direction.x;
     l.dy[i] = ray.direction.y;
     l.dz[i] = ray.direction.z;
-    l.max_dist[i] = static_cast<T>(ray.max_dist);
+    // As march(): from the start of the ray's span (the traces' t and their last step's start), to its end.
+    const Span<T> span = clip_span(s, c, ray.origin, ray.direction, T(0), static_cast<T>(ray.max_dist));
+    l.t[i] = l.prev_t[i] = l.lo[i] = span.t0;
+    l.max_dist[i] = span.t1;
     l.id[i] = ids[i];
   }
-  std::fill_n(l.t, n, T(0));
-  std::fill_n(l.min_abs, n, std::numeric_limits<T>::infinity());
-  std::fill_n(l.last_f, n, std::numeric_limits<T>::infinity());
-  std::fill_n(l.t_at_min, n, T(0));
-  std::fill_n(l.code, n, Int<T>(kRunning));
-  for (T* a : {l.prev_t, l.prev_f, l.lo, l.hi}) std::fill_n(a, n, T(0));
-  std::fill_n(l.omega, n, T(s.relaxation));
-  std::fill_n(l.bisecting, n, Int<T>(0));
   const T scale = SphereTrace<T>(s, c, T(0), T(0)).scale();
   const T eps_at_0 = s.eps_mode == EpsMode::absolute ? T(s.hit_eps)
                      : s.eps_mode == EpsMode::pixel  ? T(c.footprint_at_0)
@@ -318,9 +322,11 @@ void march_packet(const sdf::Tape& tape, const PacketRay<T>* rays, RayRecord<T>*
     int count = 0;
     for (int i = 0; i < m; ++i) {
       const PacketRay<T>& ray = rays[base + i];
-      // Rare: one point at a time (with no step allowed, march() ends the ray without evaluating).
+      // Rare: one point at a time (with no step allowed, or outside the clip box, march() ends the ray without
+      // evaluating).
       if (settings_bad || !(0 < s.max_steps) || !(ray.max_dist > 0) ||
-          detail::ray_degenerate(ray.origin, ray.direction, T(0))) {
+          detail::ray_degenerate(ray.origin, ray.direction, T(0)) ||
+          clip_span(s, c, ray.origin, ray.direction, T(0), static_cast<T>(ray.max_dist)).empty()) {
         MarchSettings own = s;
         own.max_dist = ray.max_dist;
         records[base + i] = march<T>(one_point, ray.origin, ray.direction, own, c);

@@ -810,7 +810,8 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const
   const glm::dvec3 origin = march_origin(scene);
   Context ctx{scene,   origin, march_tape(scene, origin), Camera(scene.camera, w, h), {}, plan(scene, aovs, oracle),
               nullptr, oracle, {},     shade};
-  ctx.march = march_context(ctx.camera, sdf::derive_info(scene.root, scene.time).lipschitz);
+  const sdf::FieldInfo info = sdf::derive_info(scene.root, scene.time);
+  ctx.march = march_context(ctx.camera, info.lipschitz, info.bounds, origin);
   for (const auto& light : scene.lights) ctx.light_positions.push_back(light.position_at(scene.time) - origin);
   if (ctx.pipeline.textures) {
     soil_texture_path();  // made once, before the tiles look it up in parallel

@@ -34,6 +34,7 @@ struct EnumName {
 constexpr EnumName<Marcher> kMarchers[] = {
     {Marcher::sphere, "sphere"}, {Marcher::relaxed, "relaxed"}, {Marcher::fixed, "fixed"}, {Marcher::scaled, "scaled"}};
 constexpr EnumName<HitRefine> kHitRefines[] = {{HitRefine::none, "none"}, {HitRefine::secant, "secant"}};
+constexpr EnumName<Clip> kClips[] = {{Clip::none, "none"}, {Clip::bounds, "bounds"}};
 constexpr EnumName<EpsMode> kEpsModes[] = {
     {EpsMode::absolute, "absolute"}, {EpsMode::relative, "relative"}, {EpsMode::pixel, "pixel"}};
 constexpr EnumName<NormalMethod> kNormals[] = {{NormalMethod::central, "central"},
@@ -240,6 +241,7 @@ const std::vector<Field<Scene>>& settings() {
       number_field<Scene>("hit_eps", MEMBER(Scene, march.hit_eps), 0, 1e6, true),
       enum_field<Scene>("eps_mode", kEpsModes, MEMBER(Scene, march.eps_mode)),
       enum_field<Scene>("refine", kHitRefines, MEMBER(Scene, march.refine)),
+      enum_field<Scene>("clip", kClips, MEMBER(Scene, march.clip)),
       number_field<Scene>("step_scale", MEMBER(Scene, march.step_scale), 1e-6, 2),
       number_field<Scene>("relaxation", MEMBER(Scene, march.relaxation), kRelaxationMin, kRelaxationMax, false, true),
       number_field<Scene>("fixed_step", MEMBER(Scene, march.fixed_step), 1e-9, 1e6),

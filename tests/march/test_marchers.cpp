@@ -134,6 +134,48 @@ TEST(RelaxedTracing, SavesEvaluationsAndFallsBackSafely) {
   EXPECT_NEAR(head_on.t, 4.0, 1e-4);
 }
 
+// clip=bounds on the unit sphere (its box [-1, 1]^3), every marcher: a ray that misses the box ends as a miss after
+// no evaluation; one that crosses the box and misses the sphere ends where it leaves the box (within the span's
+// widening), after fewer evaluations than the whole ray to max_dist 100; one that hits does so as the whole ray does
+// (t within the hit threshold along the ray, 1e-4 / cos 0 here, plus the fixed marcher's step of 0.01). Broken variants: a
+// missed box still marched (march-clip-miss-marched), the box's far side ignored (march-clip-exit-ignored).
+TEST_P(EveryMarcher, ClippedToTheBoundsARayMarchesOnlyWhereItCrossesTheBox) {
+  MarchSettings whole = settings(GetParam(), 2000);
+  MarchSettings clipped = whole;
+  clipped.clip = sdf::Clip::bounds;
+  MarchContext c;
+  c.bounds_lo = V(-1);
+  c.bounds_hi = V(1);
+  const auto outside = march<double>(kSphere, V(0, 1.5, -5), V(0, 0, 1), clipped, c);
+  EXPECT_EQ(outside.outcome, Outcome::miss_far);
+  EXPECT_EQ(outside.evals, 0);
+  const V corner_origin(-5, 0.9, 0.9);  // 1.27 from the centre: inside the box's slab, outside the sphere
+  const auto crossing = march<double>(kSphere, corner_origin, V(1, 0, 0), clipped, c);
+  const auto crossing_whole = march<double>(kSphere, corner_origin, V(1, 0, 0), whole, c);
+  EXPECT_EQ(crossing.outcome, Outcome::miss_far);
+  // Leaves the box at t = 6 (widened by 1e-4 + 7e-5, and the fixed marcher's step): at most one step past that, of
+  // f <= 0.62 there (|(1, 0.9, 0.9)| - 1).
+  EXPECT_LT(crossing.t, 6 + 2e-4 + whole.fixed_step + 0.62);
+  EXPECT_LT(crossing.evals, crossing_whole.evals);
+  const auto hit = march<double>(kSphere, V(0, 0.3, -5), V(0, 0, 1), clipped, c);
+  ASSERT_EQ(hit.outcome, Outcome::hit);
+  EXPECT_NEAR(hit.t, closed_form_t(0.3), 1e-4 + whole.fixed_step);
+}
+
+// The relaxed marcher's first step toward a plane at 37 degrees (surface at t = 12.5 from f = 10) goes to t = 16,
+// past max_dist 13; a plain step would reach 10, so the ray is not ended there but stepped back, and hits.
+// Broken variant: a miss decided on the over-relaxed step (march-relaxed-miss-on-relaxed-step).
+TEST(RelaxedTracing, AnOverRelaxedStepPastMaxDistIsSteppedBackNotAMiss) {
+  const sdf::Tape plane = sdf::compile(sdf::plane({0, 1, 0}, 0));
+  const TapeField field{&plane};
+  MarchSettings s = settings(Marcher::relaxed);
+  s.max_dist = 13;
+  const auto r = march<double>(field, V(0, 10, 0), V(0.6, -0.8, 0), s, {});
+  ASSERT_EQ(r.outcome, Outcome::hit);
+  EXPECT_NEAR(r.t, 12.5, 1e-4 / 0.8);
+}
+
+
 // The secant refinement: on a plane at 5 degrees the march stops up to eps / sin(5 deg) = 0.11 short at eps 0.01;
 // the secant through the last two samples is exact on a plane (f is linear along the ray) up to rounding, and
 // its one extra evaluation is counted. On a sphere the line's root is O(eps^2) off: within 1e-4 here. A ray

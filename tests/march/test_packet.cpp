@@ -36,10 +36,8 @@ Mismatches compare(const sdf::Scene& scene, const sdf::Tape& packet_tape, const 
   using V = glm::vec<3, T>;
   const int w = 256, h = 144;
   const Camera camera(scene.camera, w, h);
-  MarchContext c;
-  c.lipschitz = sdf::derive_info(scene.root, scene.time).lipschitz;
-  c.footprint_at_0 = camera.footprint_at_0();
-  c.footprint_slope = camera.footprint_slope();
+  const sdf::FieldInfo info = sdf::derive_info(scene.root, scene.time);
+  const MarchContext c = march_context(camera, info.lipschitz, info.bounds);
   const auto& s = scene.march;
   const TapeField field{&point_tape};
   std::vector<PacketRay<T>> rays;
@@ -102,15 +100,18 @@ class EveryBuiltinPacket : public ::testing::TestWithParam<std::string> {};
 
 // In the scene's own marcher, over-relaxed (its packets keep each lane's factor and step back where the unbounding
 // spheres part, as SphereTrace does), in fixed steps with bisection (lanes stepping by FixedTrace's rule) and with
-// its hits refined by a secant step (one batch more at the roots once the lanes ended), own and relaxed. Broken
+// its hits refined by a secant step (one batch more at the roots once the lanes ended), own and relaxed, and
+// clipped to the field's bounds (lanes start and end where the ray crosses the box). Broken
 // variants: a relaxed lane that never steps back (march-packet-relaxed-no-step-back), one whose fallback forgets
 // the last forward step (march-packet-relaxed-stale), a bisection that keeps the wrong half
 // (march-fixed-bisects-wrong-half), a secant root kept unchecked (march-packet-secant-unchecked), compaction that
-// leaves a lane's last forward f behind (march-packet-compaction-drops-prev-f).
+// leaves a lane's last forward f behind (march-packet-compaction-drops-prev-f), lanes marching the whole ray
+// whatever the clip (march-packet-clip-ignored).
 TEST_P(EveryBuiltinPacket, SameOutcomesStepsEvaluationsNormalsAndShadowsAsOneRayAtATime) {
-  for (const std::string marcher : {"own", "relaxed", "fixed", "secant", "relaxed+secant"}) {
+  for (const std::string marcher : {"own", "relaxed", "fixed", "secant", "relaxed+secant", "clip"}) {
     sdf::Scene scene = sdf::builtin_scene(GetParam());
     if (marcher.ends_with("secant")) sdf::apply_setting(scene, "refine", "secant");
+    if (marcher == "clip") sdf::apply_setting(scene, "clip", "bounds");
     if (marcher.starts_with("relaxed") || marcher == "fixed")
       sdf::apply_setting(scene, "marcher", marcher.substr(0, marcher.find('+')));
     const Mismatches m = scene.march.precision == sdf::Precision::float64 ? compare<double>(scene) : compare<float>(scene);
@@ -166,8 +167,10 @@ TEST(Packet, InvalidSettingsAndRaysEndInvalidAsOneRayAtATime) {
 // steps, one landing exactly on the surface with a zero threshold (not a hit: the next step crosses and the bracket
 // starts there), bisections cut short by max_steps (the ray ends at the bracket's outer end); sphere traced and
 // relaxed hits refined by a secant step, some on their last allowed step (no extra evaluation then); starts
-// inside, one 1.5 thresholds deep; a ray away from the ground. Broken variants: an inside test at twice the depth
-// (march-packet-inside-threshold), a fixed lane whose bracket forgets a step of f = 0
+// inside, one 1.5 thresholds deep; a ray away from the ground; one whose first relaxed step passes max_dist (13)
+// where a plain step does not (RelaxedTracing in test_marchers.cpp). Broken variants: an inside test at twice the
+// depth (march-packet-inside-threshold), a relaxed lane's miss decided on its over-relaxed step
+// (march-packet-relaxed-miss-on-relaxed-step), a fixed lane whose bracket forgets a step of f = 0
 // (march-packet-fixed-zero-step-forgotten), one cut short at the midpoint it would evaluate next
 // (march-packet-fixed-cut-short-at-mid), a secant step one past max_steps (march-packet-secant-past-last-step).
 TEST(Packet, LanesEndAsOneRayAtATimeAtTheRulesEdges) {
@@ -178,7 +181,8 @@ TEST(Packet, LanesEndAsOneRayAtATimeAtTheRulesEdges) {
                                               {glm::vec3(5, 1, 3), glm::vec3(0.6f, -0.8f, 0), 100},
                                               {glm::vec3(5, -1, 0), glm::vec3(0, -1, 0), 100},
                                               {glm::vec3(5, -0.015f, 0), glm::vec3(0, -1, 0), 100},
-                                              {glm::vec3(5, 1, -3), glm::vec3(0, 1, 0), 3}};
+                                              {glm::vec3(5, 1, -3), glm::vec3(0, 1, 0), 3},
+                                              {glm::vec3(5, 10, 0), glm::vec3(0.6f, -0.8f, 0), 13}};
   int cut_short = 0, zero_steps = 0, hits_on_last_step = 0, shallow_inside = 0;
   for (const Marcher marcher : {Marcher::fixed, Marcher::sphere, Marcher::relaxed})
     for (const double eps : {0.0, 0.01})

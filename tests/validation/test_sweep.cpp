@@ -137,12 +137,26 @@ TEST(SeedsBeaten, OnLeeFlatTheSecantRefinementGivesTenTimesTheSeedsAccuracyAtIts
   o.validate.rays_y = 36;
   const SeedBeaten b = beat_the_seed(sdf::builtin_scene("lee-flat"), o);
   ASSERT_EQ(b.seed().settings, (std::vector<std::pair<std::string, std::string>>{
-                                   {"marcher", "sphere"}, {"refine", "none"}, {"hit_eps", "0.01"}}));
+                                   {"marcher", "sphere"}, {"refine", "none"}, {"hit_eps", "0.01"}, {"clip", "none"}}));
   ASSERT_TRUE(b.most_accurate);
   EXPECT_GE(b.accuracy_gain(), SeedBeaten::kAccuracyTarget);
   EXPECT_EQ(b.sweep.points[*b.most_accurate].settings[1].second, "secant");
   ASSERT_TRUE(b.cheapest);
   EXPECT_LT(b.cost_ratio(), 0.8);
+}
+
+// crum-torus: most of its pixels are sky, marched to max_dist 700 by the seed. Clipped to the torus's box
+// (clip=bounds) those rays end after no evaluation: the seed's accuracy at a twentieth of its evaluations
+// (measured 0.53 evaluations per pixel against 11.2 at 640 px), every check passing.
+TEST(SeedsBeaten, OnCrumTorusClippingToTheBoundsReachesTheSeedsAccuracyAtUnderSixtyPercent) {
+  SweepOptions o = small_sweep();
+  o.render_width = 320;
+  o.validate.rays_x = 64;
+  o.validate.rays_y = 36;
+  const SeedBeaten b = beat_the_seed(sdf::builtin_scene("crum-torus"), o);
+  ASSERT_TRUE(b.cheapest);
+  EXPECT_LE(b.cost_ratio(), SeedBeaten::kCostTarget);
+  EXPECT_EQ(b.sweep.points[*b.cheapest].settings[3], (std::pair<std::string, std::string>{"clip", "bounds"}));
 }
 
 }  // namespace

@@ -184,7 +184,8 @@ SeedBeaten beat_the_seed(const sdf::Scene& scene, const SweepOptions& options) {
     eps.values.emplace_back(text, std::to_chars(text, text + sizeof text, scene.march.hit_eps * f).ptr);
   }
   const SweepAxis marchers = add(own("marcher"), "relaxed"), refine = add(add(own("refine"), "none"), "secant");
-  SeedBeaten beaten{scene.name, sweep(scene, {marchers, refine, eps}, options), {}, {}};
+  const SweepAxis clip = add(own("clip"), "bounds");
+  SeedBeaten beaten{scene.name, sweep(scene, {marchers, refine, eps, clip}, options), {}, {}};
   choose_beaten(beaten);
   return beaten;
 }

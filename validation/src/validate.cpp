@@ -101,7 +101,7 @@ Subject subject_in(const sdf::Scene& scene) {
   const auto tape = std::make_shared<const sdf::Tape>(march::march_tape(scene, origin));
   const sdf::FieldInfo info = sdf::derive_info(scene.root, scene.time);
   const auto ctx = std::make_shared<const march::MarchContext>(
-      march::march_context(march::Camera(scene.camera, scene.width, scene.height), info.lipschitz));
+      march::march_context(march::Camera(scene.camera, scene.width, scene.height), info.lipschitz, info.bounds, origin));
   const march::TapeField field{tape.get()};
   const sdf::MarchSettings settings = scene.march;
   Subject s;

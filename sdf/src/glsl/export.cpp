@@ -744,6 +744,8 @@ double step_per_unit_f(const Scene& s) {
 std::string marcher_code(const Scene& s) {
   const MarchSettings& m = s.march;
   std::ostringstream out;
+  if (m.clip == Clip::bounds)
+    out << "// clip=bounds is not exported: this march covers the whole ray to maxDist (the same hits, more steps).\n";
   out << "// outcome: 0 hit, 1 past maxDist, 2 out of steps, 3 started inside, 4 not finite; minAbsF: smallest |f|.\n"
       << "struct March { float t; int steps; float minAbsF; int outcome; };\n"
       << hit_eps_code(s)
@@ -783,8 +785,11 @@ std::string marcher_code(const Scene& s) {
                 "            !isnan(root) && root != t && !(abs(probe(r, ro, rd, root, side)) < abs(v))) r.t = t;\n"
               : "")
       << "        r.outcome = 0; return r;\n      }\n"
-      << "      float step = v * omega * scale;\n      prevT = t; prevF = v; prevStep = step; t += step;\n"
-      << "      if (t > maxDist) { r.t = t; r.outcome = 1; return r; }\n    }\n  }\n  r.t = t;\n  return r;\n}\n";
+      << "      float step = v * omega * scale, plainReach = t + v * scale;\n"
+      << "      prevT = t; prevF = v; prevStep = step; t += step;\n"
+      << "      // an over-relaxed step past maxDist may yet be stepped back: a miss where a plain step passes it too\n"
+      << "      if (t > maxDist && plainReach > maxDist) { r.t = t; r.outcome = 1; return r; }\n    }\n  }\n"
+      << "  r.t = t;\n  return r;\n}\n";
   return out.str();
 }
 

@@ -50,13 +50,17 @@ class Camera {
   double fx_, fy_, cx_, cy_;
 };
 
-// What a march through this camera needs beyond its settings: the pixel footprint (eps_mode pixel) and the field's
-// declared Lipschitz bound (the scaled marcher).
-inline MarchContext march_context(const Camera& camera, double lipschitz = 1) {
+// What a march through this camera needs beyond its settings: the pixel footprint (eps_mode pixel), the field's
+// declared Lipschitz bound (the scaled marcher) and the box its zero set and inside lie in (clip=bounds), measured
+// from origin as the march measures its points (march_origin).
+inline MarchContext march_context(const Camera& camera, double lipschitz = 1, const sdf::Box3& bounds = {},
+                                  glm::dvec3 origin = glm::dvec3(0)) {
   MarchContext c;
   c.lipschitz = lipschitz;
   c.footprint_at_0 = camera.footprint_at_0();
   c.footprint_slope = camera.footprint_slope();
+  c.bounds_lo = bounds.lo - origin;
+  c.bounds_hi = bounds.hi - origin;
   return c;
 }
 

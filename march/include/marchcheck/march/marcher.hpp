@@ -58,6 +58,8 @@ struct MarchContext {
   double lipschitz = 1;
   double footprint_at_0 = 0;
   double footprint_slope = 0;
+  // Clip::bounds: the box the field's zero set and inside lie in, in the march's coordinates (infinite: unknown).
+  glm::dvec3 bounds_lo{-INFINITY}, bounds_hi{INFINITY};
 };
 
 // The hit threshold at distance t.
@@ -85,6 +87,41 @@ template <class T>
 inline T secant_root(T prev_t, T prev_f, T t, T v) {
   const T dt = t - prev_t, df = prev_f - v, root = t + v * dt / df;
   return df > 0 && dt > 0 && std::isfinite(root) ? root : t;
+}
+
+// The part [t0, t1] of [t_start, max_dist] a ray marches (MarchSettings::clip): all of it, or only where it crosses
+// the box (c.bounds_lo, c.bounds_hi), found in double and widened by the hit threshold and 1e-5 (1 + t) so that
+// neither the march's rounding nor a hit reached before the surface falls outside (and its end by fixed_step for
+// the fixed marcher, whose step past the box's far side still finds a surface just inside it); t0 > t1 where the
+// ray misses the box. A finite, non-degenerate ray.
+template <class T>
+struct Span {
+  T t0, t1;
+  bool empty() const { return !(t0 <= t1); }
+};
+
+template <class T>
+Span<T> clip_span(const MarchSettings& s, const MarchContext& c, glm::vec<3, T> origin, glm::vec<3, T> direction,
+                  T t_start, T max_dist) {
+  if (s.clip == sdf::Clip::none) return {t_start, max_dist};
+  double t0 = -INFINITY, t1 = INFINITY;
+  for (int k = 0; k < 3; ++k) {
+    const double o = origin[k], d = direction[k], lo = c.bounds_lo[k], hi = c.bounds_hi[k];
+    if (d == 0) {
+      if (!(o >= lo && o <= hi)) return {t_start, std::numeric_limits<T>::lowest()};
+      continue;
+    }
+    const double a = (lo - o) / d, b = (hi - o) / d;
+    t0 = std::max(t0, std::min(a, b));
+    t1 = std::min(t1, std::max(a, b));
+  }
+  const auto pad = [&](double t) {
+    return static_cast<double>(hit_threshold<double>(s, c, std::abs(t))) + 1e-5 * (1 + std::abs(t));
+  };
+  t0 = std::max(static_cast<double>(t_start), t0 - pad(t0));
+  t1 = std::min(static_cast<double>(max_dist), t1 + pad(t1) + (s.marcher == Marcher::fixed ? s.fixed_step : 0.0));
+  if (!(t0 <= t1)) return {t_start, std::numeric_limits<T>::lowest()};
+  return {static_cast<T>(t0), static_cast<T>(t1)};
 }
 
 // True when the settings and context make no sense (NaN, negative, out of range): such rays are `invalid`.
@@ -189,11 +226,14 @@ class SphereTrace {
         return;
       }
       const T step = v * omega_ * scale_;
+      // An over-relaxed step past max_dist may yet be stepped back: the ray ends only where a plain step passes
+      // max_dist too (the same test for the other marchers).
+      const T plain_reach = t_ + v * scale_;
       prev_t_ = t_;
       prev_f_ = v;
       prev_step_ = step;
       t_ += step;
-      if (t_ > max_dist_) return end(Outcome::miss_far);
+      if (t_ > max_dist_ && plain_reach > max_dist_) return end(Outcome::miss_far);
     }
     if (!(r_.steps < s_->max_steps)) end(Outcome::miss_steps);
   }
@@ -279,12 +319,17 @@ RayRecord<T> march(const F& f, glm::vec<3, T> origin, glm::vec<3, T> direction, 
     RayRecord<T> r;
     return detail::Tracker<T>{r}.end(Outcome::invalid, t_start);
   }
+  const Span<T> span = clip_span(s, c, origin, direction, t_start, static_cast<T>(s.max_dist));
+  if (span.empty()) {
+    RayRecord<T> r;
+    return detail::Tracker<T>{r}.end(Outcome::miss_far, t_start);
+  }
   const auto run = [&](auto trace) {
     while (!trace.done()) trace.feed(f(origin + direction * trace.t()));
     return trace.record();
   };
-  if (s.marcher == Marcher::fixed) return run(FixedTrace<T>(s, c, t_start, static_cast<T>(s.max_dist)));
-  return run(SphereTrace<T>(s, c, t_start, static_cast<T>(s.max_dist)));
+  if (s.marcher == Marcher::fixed) return run(FixedTrace<T>(s, c, span.t0, span.t1));
+  return run(SphereTrace<T>(s, c, span.t0, span.t1));
 }
 
 }  // namespace marchcheck::march

@@ -23,6 +23,10 @@ enum class EpsMode { absolute, relative, pixel };
 // taken from the last two samples (march::secant_root), kept where one more evaluation finds |f| smaller there:
 // an error of O(eps^2) for O(eps) on a smooth surface.
 enum class HitRefine { none, secant };
+// Which part of a ray is marched. none: all of it, to max_dist; bounds: only where it crosses the box the field's
+// zero set and inside lie in (derive_info), so a ray that misses the box ends after no evaluation and one that
+// leaves it ends there (march::clip_span).
+enum class Clip { none, bounds };
 enum class NormalMethod { central, forward, tetra, analytic };
 enum class ShadowMode { none, hard, soft };
 // Where a hard shadow ray starts and which hits count. seed_offset: start at p + bias * hit_eps * n (Lee's
@@ -57,6 +61,7 @@ struct MarchSettings {
   double hit_eps = 0.01;
   EpsMode eps_mode = EpsMode::absolute;
   HitRefine refine = HitRefine::none;
+  Clip clip = Clip::none;
   double step_scale = 1;    // multiplies every step (sphere, relaxed, scaled)
   double relaxation = 1.6;  // over-relaxation factor of the relaxed marcher
   double fixed_step = 0.05;
