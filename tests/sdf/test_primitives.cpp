@@ -174,6 +174,30 @@ TEST(Plane, IsExactAgainstClosedFormDistance) {
     }
 }
 
+// A plane along an axis bounds its solid on one side: y <= -offset for the normal +y (any length), y >= offset for
+// -y (the solid is where n.p / |n| + offset <= 0); any other normal bounds nothing. Every point of the solid
+// sampled lies in the box. Broken variant: the face on the wrong side of the origin
+// (sdf-plane-bound-sign-flipped).
+TEST(Plane, AlongAnAxisItsSolidIsBoundedOnOneSide) {
+  const auto bounds = [](glm::dvec3 n, double offset) { return derive_info(plane(n, offset)).bounds; };
+  const Box3 up = bounds({0, 2, 0}, 0.5), down = bounds({0, -1, 0}, 0.5), tilted = bounds({0, 1, 1e-9}, 0.5);
+  EXPECT_EQ(up.hi, glm::dvec3(INFINITY, -0.5, INFINITY));
+  EXPECT_EQ(up.lo, glm::dvec3(-INFINITY));
+  EXPECT_EQ(down.lo, glm::dvec3(-INFINITY, 0.5, -INFINITY));
+  EXPECT_EQ(down.hi, glm::dvec3(INFINITY));
+  EXPECT_FALSE(std::isfinite(tilted.hi.y));
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-3, 3);
+  for (const auto& [n, box] : {std::pair{glm::dvec3(0, 2, 0), up}, std::pair{glm::dvec3(0, -1, 0), down}}) {
+    const Tape tape = compile(plane(n, 0.5));
+    for (int i = 0; i < 1000; ++i) {
+      const glm::dvec3 p(u(rng), u(rng), u(rng));
+      if (sdf::evaluate(tape, p) > 0) continue;
+      EXPECT_TRUE(p.y >= box.lo.y && p.y <= box.hi.y) << p.y;
+    }
+  }
+}
+
 TEST(Heightfield, IsALipschitzBoundedHeightField) {
   const Node terrain = make(Op::heightfield, {{"octaves", {-0.5, 0.5, -0.05, 2, -0.012, 4}}});
   const FieldInfo info = derive_info(terrain);

@@ -16,6 +16,18 @@ constexpr double kInf = 1e300;
 
 FieldInfo exact(Box3 bounds) { return {Kind::exact, 1, bounds, "closed form"}; }
 
+// The box around the solid dot(p, normalize(normal)) + offset <= 0: along an axis (the ground planes), the side
+// past -offset; any other normal, everything.
+Box3 half_space_box(glm::dvec3 normal, double offset) {
+  Box3 box;
+  for (int k = 0; k < 3; ++k) {
+    const glm::dvec3 axis = glm::dvec3(k == 0, k == 1, k == 2);
+    if (normal == glm::length(normal) * axis) box.hi[k] = -offset;
+    if (normal == -glm::length(normal) * axis) box.lo[k] = offset;
+  }
+  return box;
+}
+
 // A GLSL field is what its node declares, or, declared unknown, Lipschitz with the slope measured at load.
 FieldInfo glsl_info(const GlslSpec& spec) {
   const std::string name = spec.code.empty() ? spec.source : "inline GLSL";
@@ -36,7 +48,7 @@ std::vector<OpRules> solid_rules() {
        {{"radius", {0.8}}}},
       {{Op::plane, "plane", 3, 0, 0, 0, {P{"normal", 3, {0, 1, 0}}, P{"offset", 1, {0}}},
         "dot(p, normalize(n)) + offset"},
-       [](const Node&, auto, double) { return exact(Box3{}); },
+       [](const Node& n, auto, double) { return exact(half_space_box(n.vec3("normal"), n.scalar("offset"))); },
        [](Compiler& c, const Node& n) {
          const glm::dvec3 u = glm::normalize(n.vec3("normal"));
          c.primitive(TapeOp::plane, c.constants({u.x, u.y, u.z, n.scalar("offset")}), n);
