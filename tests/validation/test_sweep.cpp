@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 namespace marchcheck::validation {
 namespace {
 
@@ -157,6 +159,10 @@ TEST(SeedsBeaten, OnCrumTorusClippingToTheBoundsReachesTheSeedsAccuracyAtUnderSi
   ASSERT_TRUE(b.cheapest);
   EXPECT_LE(b.cost_ratio(), SeedBeaten::kCostTarget);
   EXPECT_EQ(b.sweep.points[*b.cheapest].settings[3], (std::pair<std::string, std::string>{"clip", "bounds"}));
+  // The thresholds tried read as a person writes them: 3 times 1e-4 is 0.0003 (broken variant: the shortest text
+  // that reads back the product, 0.00030000000000000003, sweep-eps-text-unrounded).
+  EXPECT_TRUE(std::any_of(b.sweep.points.begin(), b.sweep.points.end(),
+                          [](const SweepPoint& p) { return p.settings[2].second == "0.0003"; }));
 }
 
 }  // namespace

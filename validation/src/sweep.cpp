@@ -181,7 +181,9 @@ SeedBeaten beat_the_seed(const sdf::Scene& scene, const SweepOptions& options) {
   SweepAxis eps = own("hit_eps");
   for (double f : {0.1, 0.3, 3.0, 10.0}) {
     char text[32];
-    eps.values.emplace_back(text, std::to_chars(text, text + sizeof text, scene.march.hit_eps * f).ptr);
+    // 12 digits: 3 * 1e-4 reads 0.0003, not 0.00030000000000000003 (the setting is the text, whatever it reads).
+    eps.values.emplace_back(
+        text, std::to_chars(text, text + sizeof text, scene.march.hit_eps * f, std::chars_format::general, 12).ptr);
   }
   const SweepAxis marchers = add(own("marcher"), "relaxed"), refine = add(add(own("refine"), "none"), "secant");
   const SweepAxis clip = add(own("clip"), "bounds");
