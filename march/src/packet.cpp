@@ -109,7 +109,7 @@ int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slop
     }
     // As SphereTrace: past max_dist where a plain step passes it too (an over-relaxed one may yet step back).
     const T plain_reach = t + v * scale;
-    I code = !back & (next > l.max_dist[i]) & (plain_reach > l.max_dist[i]) ? miss_far : out_of_steps;
+    I code = (!back & (next > l.max_dist[i]) & (plain_reach > l.max_dist[i])) ? miss_far : out_of_steps;
     const I moved = code;  // t moves on unless the step below ends the ray where it is
     code = !back && v < eps ? hit : code;
     if constexpr (First) code = v < -eps ? inside : code;
@@ -154,15 +154,15 @@ int feed_fixed_lanes(Lanes<T>& l, int count, int step, T fixed_step, T eps_at_0,
     const bool ends_here = (bisecting & bisect_hit) | (!bisecting & step_hit);
     const bool splits = (bisecting & !bisect_hit) | (!bisecting & below & !step_hit);
     const bool forward = !bisecting & !below, above = v > 0;
-    const T lo_next = above | forward ? t : lo, hi_next = above ? hi : t;
+    const T lo_next = (above | forward) ? t : lo, hi_next = above ? hi : t;
     const T mid = lo_next + (hi_next - lo_next) * T(0.5), ahead = t + fixed_step;
-    I code = !splits & (ahead > l.max_dist[i]) ? miss_far : out_of_steps;
+    I code = (!splits & (ahead > l.max_dist[i])) ? miss_far : out_of_steps;
     code = ends_here ? hit : code;
     code = inside_first ? inside : code;
     code = finite ? code : invalid;
     T t_next = splits ? mid : ahead;  // where the field is wanted next, or where the ray ends
-    t_next = splits & last_step ? lo_next : t_next;
-    t_next = ends_here | inside_first | !finite ? t : t_next;
+    t_next = (splits & last_step) ? lo_next : t_next;
+    t_next = (ends_here | inside_first | !finite) ? t : t_next;
     const bool live = settle(l, i, code, v, t, a, I(step));
     l.t[i] = live ? t_next : t;
     // A lane that ended never reads these again.
