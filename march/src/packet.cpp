@@ -108,8 +108,13 @@ int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slop
       next = back ? back_to : ahead;
     }
     // As SphereTrace: past max_dist where a plain step passes it too (an over-relaxed one may yet step back).
+    // One select per condition: the three combined in one condition kept GCC from vectorising the loop.
     const T plain_reach = t + v * scale;
-    I code = (!back & (next > l.max_dist[i]) & (plain_reach > l.max_dist[i])) ? miss_far : out_of_steps;
+    const T md = l.max_dist[i];
+    I code = out_of_steps;
+    code = next > md ? miss_far : code;
+    code = plain_reach > md ? code : out_of_steps;
+    code = back ? out_of_steps : code;
     const I moved = code;  // t moves on unless the step below ends the ray where it is
     code = !back && v < eps ? hit : code;
     if constexpr (First) code = v < -eps ? inside : code;
