@@ -137,12 +137,27 @@ TEST(Packet, ATapeOneRoundingApartIsCaught) {
   EXPECT_GT(m.normals, 0);
 }
 
+// Each ray's packet record beside its one-point march (march() with the ray's own max_dist), in ray order.
+std::vector<std::pair<RayRecord<float>, RayRecord<float>>> packet_and_alone(const sdf::Tape& tape,
+                                                                         const std::vector<PacketRay<float>>& rays,
+                                                                         const MarchSettings& s, const MarchContext& c) {
+  const auto one_point = [&tape](glm::vec3 p) { return sdf::evaluate(tape, p); };
+  std::vector<RayRecord<float>> records(rays.size());
+  march_packet(tape, rays.data(), records.data(), static_cast<int>(rays.size()), s, c);
+  std::vector<std::pair<RayRecord<float>, RayRecord<float>>> both;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    MarchSettings own = s;
+    own.max_dist = rays[i].max_dist;
+    both.emplace_back(records[i], march<float>(one_point, rays[i].origin, rays[i].direction, own, c));
+  }
+  return both;
+}
+
 // Rays march_packet hands to march() (settings that make no sense, a non-positive max_dist, a degenerate ray)
 // end as march() ends them: invalid, after no evaluation.
 TEST(Packet, InvalidSettingsAndRaysEndInvalidAsOneRayAtATime) {
   const sdf::Scene scene = sdf::builtin_scene("lee-flat");
   const sdf::Tape tape = sdf::compile(scene.root);
-  const auto one_point = [&tape](glm::vec3 p) { return sdf::evaluate(tape, p); };
   const MarchContext c;
   const std::vector<PacketRay<float>> rays = {{glm::vec3(0, 1, 0), glm::vec3(0, 0, 1), 100},
                                               {glm::vec3(0, 1, 0), glm::vec3(0, 0, 1), 0},
@@ -151,14 +166,11 @@ TEST(Packet, InvalidSettingsAndRaysEndInvalidAsOneRayAtATime) {
   for (const double step_scale : {1.0, double(NAN)}) {
     MarchSettings s = scene.march;
     s.step_scale = step_scale;
-    std::vector<RayRecord<float>> records(rays.size());
-    march_packet(tape, rays.data(), records.data(), static_cast<int>(rays.size()), s, c);
+    const auto both = packet_and_alone(tape, rays, s, c);
     for (size_t i = 0; i < rays.size(); ++i) {
-      MarchSettings own = s;
-      own.max_dist = rays[i].max_dist;
-      const RayRecord<float> alone = march<float>(one_point, rays[i].origin, rays[i].direction, own, c);
-      EXPECT_TRUE(same(records[i], alone) || (std::isnan(records[i].t) && std::isnan(alone.t))) << i;
-      EXPECT_EQ(records[i].outcome == Outcome::invalid, std::isnan(step_scale) || i > 0) << i;
+      const auto& [packet, alone] = both[i];
+      EXPECT_TRUE(same(packet, alone) || (std::isnan(packet.t) && std::isnan(alone.t))) << i;
+      EXPECT_EQ(packet.outcome == Outcome::invalid, std::isnan(step_scale) || i > 0) << i;
     }
   }
 }
@@ -175,7 +187,6 @@ TEST(Packet, InvalidSettingsAndRaysEndInvalidAsOneRayAtATime) {
 // (march-packet-fixed-cut-short-at-mid), a secant step one past max_steps (march-packet-secant-past-last-step).
 TEST(Packet, LanesEndAsOneRayAtATimeAtTheRulesEdges) {
   const sdf::Tape tape = sdf::compile(sdf::plane({0, 1, 0}, 0));
-  const auto one_point = [&tape](glm::vec3 p) { return sdf::evaluate(tape, p); };
   const MarchContext c;
   const std::vector<PacketRay<float>> rays = {{glm::vec3(5, 1, 0), glm::vec3(0, -1, 0), 100},
                                               {glm::vec3(5, 1, 3), glm::vec3(0.6f, -0.8f, 0), 100},
@@ -194,15 +205,12 @@ TEST(Packet, LanesEndAsOneRayAtATimeAtTheRulesEdges) {
           s.hit_eps = eps;
           s.fixed_step = step;
           s.max_steps = max_steps;
-          std::vector<RayRecord<float>> records(rays.size());
-          march_packet(tape, rays.data(), records.data(), static_cast<int>(rays.size()), s, c);
+          const auto both = packet_and_alone(tape, rays, s, c);
           for (size_t i = 0; i < rays.size(); ++i) {
-            MarchSettings own = s;
-            own.max_dist = rays[i].max_dist;
-            const RayRecord<float> alone = march<float>(one_point, rays[i].origin, rays[i].direction, own, c);
-            EXPECT_TRUE(same(records[i], alone)) << "ray " << i << " marcher " << static_cast<int>(marcher) << " eps "
-                                                 << eps << " step " << step << " max_steps " << max_steps << ": t "
-                                                 << records[i].t << " against " << alone.t;
+            const auto& [packet, alone] = both[i];
+            EXPECT_TRUE(same(packet, alone)) << "ray " << i << " marcher " << static_cast<int>(marcher) << " eps "
+                                             << eps << " step " << step << " max_steps " << max_steps << ": t "
+                                             << packet.t << " against " << alone.t;
             const bool fixed = marcher == Marcher::fixed;
             cut_short += fixed && alone.outcome == Outcome::miss_steps && i < 2 && alone.t < 2;
             shallow_inside += i == 3 && eps > 0 && alone.outcome == Outcome::inside;

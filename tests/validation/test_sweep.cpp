@@ -128,15 +128,21 @@ TEST(SeedsBeaten, TheCheapestAtTheSeedsAccuracyAndTheMostAccurateAtItsCostAmongP
   EXPECT_DOUBLE_EQ(b.accuracy_gain(), 20);
 }
 
+// A seed scene's sweep at a size where its accuracy is measured (64x36 rays, renders 320 wide).
+SweepOptions seed_sweep() {
+  SweepOptions o = small_sweep();
+  o.render_width = 320;
+  o.validate.rays_x = 64;
+  o.validate.rays_y = 36;
+  return o;
+}
+
 // lee-flat, the seed at hit_eps 0.01: sphere tracing's error at grazing rays is eps / sin(angle) (0.19 at the
 // 99th percentile); the secant refinement brings it under 1e-3 at no more evaluations (measured 0.0004 at 32.7
 // evaluations against the seed's 38.1), and a larger threshold with the refinement keeps the seed's accuracy at
 // fewer evaluations (measured 64%).
 TEST(SeedsBeaten, OnLeeFlatTheSecantRefinementGivesTenTimesTheSeedsAccuracyAtItsCost) {
-  SweepOptions o = small_sweep();
-  o.render_width = 320;
-  o.validate.rays_x = 64;
-  o.validate.rays_y = 36;
+  const SweepOptions o = seed_sweep();
   const SeedBeaten b = beat_the_seed(sdf::builtin_scene("lee-flat"), o);
   ASSERT_EQ(b.seed().settings, (std::vector<std::pair<std::string, std::string>>{
                                    {"marcher", "sphere"}, {"refine", "none"}, {"hit_eps", "0.01"}, {"clip", "none"}}));
@@ -151,10 +157,7 @@ TEST(SeedsBeaten, OnLeeFlatTheSecantRefinementGivesTenTimesTheSeedsAccuracyAtIts
 // (clip=bounds) those rays end after no evaluation: the seed's accuracy at a twentieth of its evaluations
 // (measured 0.53 evaluations per pixel against 11.2 at 640 px), every check passing.
 TEST(SeedsBeaten, OnCrumTorusClippingToTheBoundsReachesTheSeedsAccuracyAtUnderSixtyPercent) {
-  SweepOptions o = small_sweep();
-  o.render_width = 320;
-  o.validate.rays_x = 64;
-  o.validate.rays_y = 36;
+  const SweepOptions o = seed_sweep();
   const SeedBeaten b = beat_the_seed(sdf::builtin_scene("crum-torus"), o);
   ASSERT_TRUE(b.cheapest);
   EXPECT_LE(b.cost_ratio(), SeedBeaten::kCostTarget);
