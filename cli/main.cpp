@@ -1,5 +1,6 @@
 // marchcheck's command line: argument parsing only; the commands live in marchcheck::commands.
 #include "marchcheck/commands/commands.hpp"
+#include "marchcheck/march/render.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -7,7 +8,18 @@
 #include <iostream>
 #include <unistd.h>
 
+namespace {
+// Every way out of main joins the render's worker threads first (see join_render_workers).
+struct RenderWorkersJoinedAtExit {
+  RenderWorkersJoinedAtExit() = default;
+  RenderWorkersJoinedAtExit(const RenderWorkersJoinedAtExit&) = delete;
+  RenderWorkersJoinedAtExit& operator=(const RenderWorkersJoinedAtExit&) = delete;
+  ~RenderWorkersJoinedAtExit() { marchcheck::march::join_render_workers(); }
+};
+}  // namespace
+
 int main(int argc, char** argv) {
+  const RenderWorkersJoinedAtExit workers;
   using namespace marchcheck::commands;
   CLI::App app{"marchcheck: numerical validation of signed-distance-field ray marching"};
   app.require_subcommand(1);

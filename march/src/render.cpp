@@ -9,12 +9,14 @@
 #include "marchcheck/march/tolerances.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <numbers>
 #include <array>
 #include <chrono>
+#include <new>
 #include <sstream>
 #include <stdexcept>
 
@@ -853,6 +855,11 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const
   for (const auto& [name, cost] : out.stages) out.total_evals += cost.evals;
   out.seconds = since(start);
   return out;
+}
+
+bool join_render_workers() {
+  tbb::task_scheduler_handle handle{tbb::attach{}};
+  return tbb::finalize(handle, std::nothrow);
 }
 
 std::map<std::string, double> cost_metrics(const RenderResult& result) {

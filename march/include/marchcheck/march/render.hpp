@@ -92,6 +92,11 @@ enum class ShadePrecision { float32, float64 };
 RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs = {}, const SurfaceOracle* oracle = nullptr,
                     Images images = Images::all, ShadePrecision shade = ShadePrecision::float32);
 
+// Joins render's worker threads (TBB's); call it before the process exits. Workers left to wind down during exit
+// race LeakSanitizer's exit-time check, whose tracer then crashes ("Tracer caught signal 11"). False while
+// parallel work is still running (the workers then stay); the next render starts workers anew.
+bool join_render_workers();
+
 // Dotted cost metrics: cost.stages.<stage>.evals/.seconds, cost.evals_per_pixel, cost.steps_max, cost.seconds.
 std::map<std::string, double> cost_metrics(const RenderResult& result);
 
