@@ -4,7 +4,9 @@
 #include <stdexcept>
 
 #ifdef MARCHCHECK_MPI
-#include <mpi.h>
+#include "mpi_module.hpp"
+
+#include "marchcheck/files/loadable_module.hpp"
 #endif
 
 namespace marchcheck::commands {
@@ -26,45 +28,20 @@ std::optional<int> launched_size() {
 
 namespace {
 
-struct Joined {
-  MpiWorld world;
-  Joined() {
-    MPI_Init(nullptr, nullptr);
-    MPI_Comm_rank(MPI_COMM_WORLD, &world.rank);
-    MPI_Comm_size(MPI_COMM_WORLD, &world.size);
-  }
-  ~Joined() { MPI_Finalize(); }
-};
+const MpiModule& mpi_module() {
+  static const MpiModule& module = files::module_table<MpiModule>(
+      reinterpret_cast<const void*>(&launched_world), "libmarchcheck_mpi.so", "marchcheck_mpi_module");
+  return module;
+}
 
 }  // namespace
 
 std::optional<MpiWorld> launched_world() {
   if (!launched_size()) return std::nullopt;
-  static const Joined joined;  // left when the program exits
-  return joined.world;
+  return mpi_module().join();
 }
 
-std::vector<std::string> gather_to_root(const std::string& piece) {
-  const MpiWorld world = *launched_world();
-  int length = static_cast<int>(piece.size());
-  std::vector<int> lengths(static_cast<size_t>(world.size)), offsets(lengths.size());
-  MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
-  std::string all;
-  if (world.rank == 0) {
-    long total = 0;
-    for (size_t r = 0; r < lengths.size(); ++r) {
-      offsets[r] = static_cast<int>(total);
-      total += lengths[r];
-    }
-    all.resize(static_cast<size_t>(total));
-  }
-  MPI_Gatherv(piece.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0, MPI_COMM_WORLD);
-  std::vector<std::string> pieces;
-  if (world.rank == 0)
-    for (size_t r = 0; r < lengths.size(); ++r)
-      pieces.push_back(all.substr(static_cast<size_t>(offsets[r]), static_cast<size_t>(lengths[r])));
-  return pieces;
-}
+std::vector<std::string> gather_to_root(const std::string& piece) { return mpi_module().gather_to_root(piece); }
 
 #else
 

@@ -50,6 +50,23 @@ TEST_F(Cli, ScenesListsEveryBuiltin) {
   EXPECT_EQ(run("scenes --json").status, 0);
 }
 
+// Start-up loads none of the libraries only some commands use (each ~2.4 ms of dynamic loading, OpenImageIO 160
+// ms): the dynamic loader's own account (LD_DEBUG=files) names each library as it is loaded, and names Embree and
+// OpenImageIO once a mesh scene is rendered to EXR. Broken variants: Embree or Open MPI linked into march or
+// commands again (march-embree-linked, commands-mpi-linked).
+TEST_F(Cli, StartUpLoadsNoLibraryOnlySomeCommandsUse) {
+  const auto loaded = [](const std::string& args) {
+    return run_shell("LD_DEBUG=files " + std::string(MARCHCHECK_BINARY) + " " + args).output;
+  };
+  const std::string help = loaded("--help");
+  ASSERT_NE(help.find("libmarchcheck_march"), std::string::npos) << "the account names what is loaded:\n" << help;
+  for (const char* library : {"libmpi", "libembree", "libOpenImageIO"})
+    EXPECT_EQ(help.find(library), std::string::npos) << library << " loaded at start-up";
+  const std::string mesh = loaded("render flafla-occlusion --size 16x9 -o " + path("m.exr"));
+  for (const char* library : {"libembree", "libOpenImageIO"})
+    EXPECT_NE(mesh.find(library), std::string::npos) << library << " not loaded where it is used";
+}
+
 TEST_F(Cli, RenderWritesTheImageAndTheStats) {
   const CommandRun r = run("render lee-flat --size 64x36 -o " + path("lee.png") + " --aov steps --stats " + path("s.json") +
                     " --set max_steps=50");

@@ -1,12 +1,12 @@
 // Exact ray-triangle intersection of a scene's triangle meshes (Embree's BVH), so the march can stop at the
-// nearest mesh as the Unity seed does with its depth buffer.
+// nearest mesh as the Unity seed does with its depth buffer. Embree itself lives in a module loaded by the first
+// occluder (src/embree_module.hpp).
 #pragma once
 
 #include "marchcheck/sdf/scene.hpp"
 
 #include <glm/glm.hpp>
 
-#include <memory>
 #include <vector>
 
 namespace marchcheck::march {
@@ -29,8 +29,7 @@ class MeshOccluder {
   MeshHit intersect(glm::dvec3 origin, glm::dvec3 direction, double t_max) const;
 
  private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  void* scene_;  // the module's
 };
 
 }  // namespace marchcheck::march
