@@ -105,32 +105,43 @@ Ray Camera::intrinsics_ray(glm::dvec2 undistorted) const {
 }
 
 void Camera::rays(const double* px, const double* py, int n, Ray* out) const {
-  if (spec_.model != sdf::CameraModel::intrinsics || spec_.lens == sdf::LensConvention::shader) {
+  if (spec_.model == sdf::CameraModel::orthographic || spec_.model == sdf::CameraModel::frustum) {
     for (int i = 0; i < n; ++i) out[i] = ray(px[i], py[i]);
     return;
   }
-  // undistort() for a block of pixels at once: each lane takes the same Newton steps as alone, and stops with it.
+  // ray() for a block of pixels at once, each step a loop over the block that vectorises: through_lens() (the
+  // shader's distortion in closed form, or undistortion's Newton steps, each lane taking the same steps as alone and
+  // stopping with it), then intrinsics_ray().
   constexpr int kBlock = 64;
-  const Lens lens = lens_of(spec_);
+  const bool lens = spec_.model == sdf::CameraModel::intrinsics;  // distort() and undistort() pass u on otherwise
+  const Lens coefficients = lens_of(spec_);
   for (int base = 0; base < n; base += kBlock) {
     const int m = std::min(kBlock, n - base);
     double tx[kBlock], ty[kBlock], ux[kBlock], uy[kBlock];
-    std::int64_t moving[kBlock];
     for (int i = 0; i < m; ++i) {
       tx[i] = ux[i] = (px[base + i] - cx_) / fx_;
       ty[i] = uy[i] = (py[base + i] - cy_) / fy_;
-      moving[i] = 1;
     }
-    for (int step = 0; step < kNewtonSteps; ++step) {
-      std::int64_t any = 0;
+    if (lens && spec_.lens == sdf::LensConvention::shader) {
       for (int i = 0; i < m; ++i) {
-        const NewtonStep next = newton_step(lens, {tx[i], ty[i]}, {ux[i], uy[i]});
-        moving[i] &= static_cast<std::int64_t>(next.moved);
-        ux[i] = moving[i] ? next.next.x : ux[i];
-        uy[i] = moving[i] ? next.next.y : uy[i];
-        any |= moving[i];
+        const glm::dvec2 d = coefficients.distort({tx[i], ty[i]});
+        ux[i] = d.x;
+        uy[i] = d.y;
       }
-      if (!any) break;
+    } else if (lens) {
+      std::int64_t moving[kBlock];
+      std::fill_n(moving, m, 1);
+      for (int step = 0; step < kNewtonSteps; ++step) {
+        std::int64_t any = 0;
+        for (int i = 0; i < m; ++i) {
+          const NewtonStep next = newton_step(coefficients, {tx[i], ty[i]}, {ux[i], uy[i]});
+          moving[i] &= static_cast<std::int64_t>(next.moved);
+          ux[i] = moving[i] ? next.next.x : ux[i];
+          uy[i] = moving[i] ? next.next.y : uy[i];
+          any |= moving[i];
+        }
+        if (!any) break;
+      }
     }
     // intrinsics_ray() lane by lane, as glm computes it: d = forward + right x - up y, d * (1 / sqrt(dot(d, d))).
     double dx[kBlock], dy[kBlock], dz[kBlock], scale[kBlock];
