@@ -1,5 +1,6 @@
 #include "marchcheck/march/render.hpp"
 
+#include "huge_pages.hpp"
 #include "image_module.hpp"
 #include "marchcheck/files/atomic_file.hpp"
 
@@ -39,12 +40,17 @@ std::string base_of(const std::string& path) {
 }  // namespace
 
 std::vector<unsigned char> to_8bit(const Image& image, bool srgb) {
-  std::vector<unsigned char> bytes(image.pixels.size());
+  std::vector<unsigned char> bytes;
+  bytes.reserve(image.pixels.size());
+  advise_huge_pages(bytes.data(), image.pixels.size());
+  bytes.resize(image.pixels.size());
   for (size_t i = 0; i < bytes.size(); ++i) {
-    // NaN is written black, as llvmpipe writes it (a GPU's driver may write anything; lround's is unspecified).
+    // NaN is written black, as llvmpipe writes it (a GPU's driver may write anything).
     const float raw = std::isnan(image.pixels[i]) ? 0.0f : image.pixels[i];
     const float v = srgb ? to_srgb(raw) : std::clamp(raw, 0.0f, 1.0f);
-    bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
+    // lround(v * 255) without its library call: for x = v * 255 in [0, 255], x + 0.5 is exact in double, so its
+    // floor rounds halves up as lround does (in float, 0.49999997f + 0.5f would round to 1).
+    bytes[i] = static_cast<unsigned char>(std::floor(static_cast<double>(v * 255.0f) + 0.5));
   }
   return bytes;
 }

@@ -9,6 +9,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -163,6 +164,26 @@ TEST_F(AtomicFile, APngHoldsTheEightBitBytesAndItsTransfer) {
       EXPECT_EQ(back.transfer, srgb ? "srgb" : "linear");
       EXPECT_EQ(back.srgb_chunk, srgb);
     }
+}
+
+// to_8bit rounds v * 255 as std::lround does (halves up), on the values where a shortcut would differ: each level's
+// half-way point and its neighbouring floats, and the float just below 0.5 / 255 (0.49999997f + 0.5f is 1 in
+// float). Broken variant: the rounding done in float (march-8bit-rounding-in-float).
+TEST(EightBit, RoundsAsLroundAtEveryHalfWayPoint) {
+  Image image(0, 1, 1);
+  for (int level = 0; level < 255; ++level) {
+    float v = (static_cast<float>(level) + 0.5f) / 255.0f;
+    for (int k = 0; k < 4; ++k) v = std::nextafter(v, 0.0f);
+    for (int k = 0; k < 9; ++k, v = std::nextafter(v, 1.0f)) image.pixels.push_back(v);
+  }
+  image.pixels.push_back(std::nextafter(0.5f, 0.0f) / 255.0f);
+  image.width = static_cast<int>(image.pixels.size());
+  const std::vector<unsigned char> bytes = to_8bit(image, false);
+  ASSERT_EQ(bytes.size(), image.pixels.size());
+  int differ = 0;
+  for (size_t i = 0; i < bytes.size(); ++i) differ += bytes[i] != std::lround(image.pixels[i] * 255.0f);
+  EXPECT_EQ(differ, 0) << "of " << bytes.size();
+  EXPECT_EQ(bytes.back(), 0);
 }
 
 // OpenImageIO is loaded where it is used, not by every command (Debian's build brings ~260 libraries, 160 ms): a
