@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <string>
@@ -62,7 +63,76 @@ struct Pseudonormals {
   }
 };
 
+// An oriented box's axes for triangles [begin, end): the third their area-weighted mean normal, the first the
+// direction their corners spread most along in the plane across it (so the box is narrow across a long patch).
+// Where the normals cancel (a closed piece), the coordinate axes: any frame bounds, the tight one just prunes more.
+std::array<dvec3, 3> mean_plane_frame(const std::vector<std::array<dvec3, 3>>& corners, std::uint32_t begin,
+                                      std::uint32_t end) {
+  dvec3 normal(0), mean(0);
+  double area = 0;
+  for (std::uint32_t i = begin; i < end; ++i) {
+    const auto& t = corners[i];
+    const dvec3 twice_area = glm::cross(t[1] - t[0], t[2] - t[0]);
+    normal += twice_area;
+    area += glm::length(twice_area);
+    mean += t[0] + t[1] + t[2];
+  }
+  if (!(glm::length(normal) > 1e-3 * area)) return {dvec3(1, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, 1)};
+  const dvec3 n = glm::normalize(normal);
+  mean /= 3.0 * (end - begin);
+  const dvec3 u = glm::normalize(glm::cross(n, std::abs(n.x) < 0.6 ? dvec3(1, 0, 0) : dvec3(0, 1, 0)));
+  const dvec3 v = glm::cross(n, u);
+  // The in-plane covariance's principal direction.
+  double uu = 0, uv = 0, vv = 0;
+  for (std::uint32_t i = begin; i < end; ++i)
+    for (const dvec3& x : corners[i]) {
+      const double s = glm::dot(x - mean, u), t = glm::dot(x - mean, v);
+      uu += s * s;
+      uv += s * t;
+      vv += t * t;
+    }
+  const double angle = 0.5 * std::atan2(2 * uv, uu - vv);
+  const dvec3 spread = std::cos(angle) * u + std::sin(angle) * v;
+  return {spread, glm::cross(n, spread), n};
+}
+
 }  // namespace
+
+// Child k's oriented box in node: the frame's axes and the box's centre rounded to S, and half extents that hold
+// every corner of triangles [begin, end) along those rounded axes, computed in double, padded by 8 epsilons of the
+// corner's L1 norm about the centre (four times that arithmetic's rounding) and rounded up to S.
+template <class S>
+void MeshDistance::set_oriented_box(BvhNode<S>& node, int k, const std::array<dvec3, 3>& frame,
+                                    const std::vector<std::array<dvec3, 3>>& corners, std::uint32_t begin,
+                                    std::uint32_t end) {
+  dvec3 lo(INFINITY), hi(-INFINITY);
+  for (std::uint32_t i = begin; i < end; ++i)
+    for (const dvec3& x : corners[i])
+      for (int r = 0; r < 3; ++r) {
+        lo[r] = std::min(lo[r], glm::dot(x, frame[r]));
+        hi[r] = std::max(hi[r], glm::dot(x, frame[r]));
+      }
+  const dvec3 mid = (lo + hi) / 2.0;
+  const dvec3 centre = frame[0] * mid[0] + frame[1] * mid[1] + frame[2] * mid[2];
+  glm::vec<3, S> axes[3];
+  for (int r = 0; r < 3; ++r) axes[r] = glm::vec<3, S>(frame[r]);
+  const glm::vec<3, S> c(centre);
+  dvec3 half(0);
+  for (std::uint32_t i = begin; i < end; ++i)
+    for (const dvec3& x : corners[i]) {
+      const dvec3 w = x - dvec3(c);
+      const double l1 = std::abs(w.x) + std::abs(w.y) + std::abs(w.z);
+      const double pad = 8 * std::numeric_limits<double>::epsilon() * l1;
+      for (int r = 0; r < 3; ++r) half[r] = std::max(half[r], std::abs(glm::dot(w, dvec3(axes[r]))) + pad);
+    }
+  for (int r = 0; r < 3; ++r) {
+    node.centre[r][k] = c[r];
+    for (int i = 0; i < 3; ++i) node.axes[r][i][k] = axes[r][i];
+    S h = static_cast<S>(half[r]);
+    if (h < half[r]) h = std::nextafter(h, S(INFINITY));
+    node.half[r][k] = h;
+  }
+}
 
 // A node of the binary tree the four-wide one is collapsed from.
 struct MeshDistance::BinaryNode {
@@ -70,6 +140,7 @@ struct MeshDistance::BinaryNode {
   std::uint32_t first;   // leaf: first triangle (BVH order); inner: left child
   std::uint32_t second;  // inner: right child
   std::uint32_t count;   // leaf: how many triangles; inner: 0
+  std::uint32_t begin, end;  // its triangles' BVH positions, leaf or inner
   double area() const {
     const dvec3 e = hi - lo;
     return e.x * e.y + e.y * e.z + e.z * e.x;
@@ -119,7 +190,7 @@ std::uint32_t MeshDistance::split(std::vector<BinaryNode>& binary, const std::ve
   const auto& vs = mesh_.vertices;
   const auto& ts = mesh_.triangles;
   const auto index = static_cast<std::uint32_t>(binary.size());
-  binary.push_back({dvec3(INFINITY), dvec3(-INFINITY), first, 0, count});
+  binary.push_back({dvec3(INFINITY), dvec3(-INFINITY), first, 0, count, first, first + count});
   dvec3 clo(INFINITY), chi(-INFINITY);
   for (std::uint32_t i = first; i < first + count; ++i) {
     for (int k = 0; k < 3; ++k) {
@@ -151,12 +222,12 @@ std::uint32_t MeshDistance::collapse(const std::vector<BinaryNode>& binary, std:
   const BinaryNode& b = binary[at];
   if (b.count > 0 && !root) {
     const auto leaf = static_cast<std::uint32_t>(d.leaves.size());
-    d.leaves.push_back(make_leaf(d.corners, b.first, b.count));
-    single_.leaves.push_back(make_leaf(single_.corners, b.first, b.count));
+    add_leaf(d, b.first, b.count);
+    add_leaf(single_, b.first, b.count);
     return leaf | kLeafBit;
   }
   std::vector<std::uint32_t> children = b.count > 0 ? std::vector{at} : std::vector{b.first, b.second};
-  while (children.size() < 4) {
+  while (children.size() < kNodeWidth) {
     auto widest = children.end();
     for (auto c = children.begin(); c != children.end(); ++c)
       if (binary[*c].count == 0 && (widest == children.end() || binary[*c].area() > binary[*widest].area()))
@@ -169,8 +240,14 @@ std::uint32_t MeshDistance::collapse(const std::vector<BinaryNode>& binary, std:
   const auto index = static_cast<std::uint32_t>(d.nodes.size());
   d.nodes.emplace_back();
   single_.nodes.emplace_back();
-  for (int k = 0; k < 4; ++k) {
+  for (int k = 0; k < kNodeWidth; ++k) {
     const bool used = k < static_cast<int>(children.size());
+    if (used) {
+      const BinaryNode& c = binary[children[k]];
+      const std::array<dvec3, 3> frame = mean_plane_frame(d.corners, c.begin, c.end);
+      set_oriented_box(d.nodes[index], k, frame, d.corners, c.begin, c.end);
+      set_oriented_box(single_.nodes[index], k, frame, d.corners, c.begin, c.end);
+    }
     for (int i = 0; i < 3; ++i) {
       const double lo = used ? binary[children[k]].lo[i] : INFINITY;
       const double hi = used ? binary[children[k]].hi[i] : -INFINITY;
@@ -190,32 +267,19 @@ std::uint32_t MeshDistance::collapse(const std::vector<BinaryNode>& binary, std:
 }
 
 template <class S>
-MeshDistance::Leaf<S> MeshDistance::make_leaf(const std::vector<std::array<glm::vec<3, S>, 3>>& corners,
-                                              std::uint32_t first, std::uint32_t count) {
-  Leaf<S> l;
-  l.first = first;
-  l.count = count;
+void MeshDistance::add_leaf(Arrays<S>& arrays, std::uint32_t first, std::uint32_t count) {
+  Leaf<S>& l = arrays.leaves.emplace_back();
+  arrays.leaf_first.push_back(first);
   for (std::uint32_t k = 0; k < kLeafWidth; ++k) {
-    // Edge vectors as closest_on_triangle computes them, in S.
-    const std::uint32_t slot = first + std::min(k, count - 1);
-    const auto& t = corners[slot];
-
-    const glm::vec<3, S> ab = t[1] - t[0], ac = t[2] - t[0], bc = t[2] - t[1];
-    const meshes::TriangleFrame<S> f = meshes::triangle_frame(ab, ac, bc);
+    const auto& t = arrays.corners[first + std::min(k, count - 1)];
+    const glm::vec<3, S> n = meshes::face_normal<S>(t[1] - t[0], t[2] - t[0], t[2] - t[1]);  // in S, as the search's
     for (int i = 0; i < 3; ++i) {
       l.a[i][k] = t[0][i];
       l.b[i][k] = t[1][i];
       l.c[i][k] = t[2][i];
-      l.ab[i][k] = ab[i];
-      l.ac[i][k] = ac[i];
-      l.bc[i][k] = bc[i];
-      l.n[i][k] = f.n[i];
-      l.across_ab[i][k] = f.across_ab[i];
-      l.across_ac[i][k] = f.across_ac[i];
-      l.across_bc[i][k] = f.across_bc[i];
+      l.n[i][k] = n[i];
     }
   }
-  return l;
 }
 
 }  // namespace marchcheck::sdf

@@ -174,7 +174,8 @@ vec3 mc_closest_on_triangle(vec3 p, vec3 a, vec3 b, vec3 c, out int feature) {
 // leaving room for the scene's other constants.
 constexpr std::size_t kMeshConstantSlotsMax = 3840;
 
-// Triangles per leaf of the exported search: the C++ search's leaves are runs of this many in its order.
+// Triangles per leaf of the exported search: runs of this many in the C++ search's order (halves of its leaves). The
+// shader's tree is its own; the minimum over every triangle it finds is the same float whatever the leaves' size.
 constexpr int kExportLeaf = 8;
 
 // The text `line` n times, K in it replaced by 0, 1, ... n - 1.

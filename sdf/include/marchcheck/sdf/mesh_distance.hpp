@@ -62,6 +62,13 @@ class MeshDistance {
   template <class S>
   void closest(const glm::vec<3, S>* points, Closest<S>* out, int n) const;
 
+  // How many leaves (up to 16 triangles each) closest(p) searches: its cost, as deterministic as a march's
+  // evaluations, and what the bounds of the tree's boxes decide.
+  template <class S>
+  int leaves_searched(glm::vec<3, S> p) const {
+    return static_cast<int>(search(p, kNoLeaf).leaves);
+  }
+
   // Negative inside. T is float, double or Dual of them (the gradient is (p - closest) / distance, signed).
   template <class T>
   T signed_distance(glm::vec<3, T> p) const;
@@ -70,27 +77,31 @@ class MeshDistance {
   void signed_distances(const T* x, const T* y, const T* z, T* out, int n) const;
 
   // The float search's triangles in its order: what a shader needs to find closest<float>'s squared distance
-  // (sdf::glsl_map), its runs of kLeafWidth being the search's leaves.
+  // (sdf::glsl_map); runs of 16 are the search's leaves, of 8 the shader's.
   const std::vector<std::array<glm::vec3, 3>>& float_corners() const { return single_.corners; }
 
  private:
-  // Up to kLeafWidth triangles side by side, each corner and edge vector as one array per axis, so their
-  // distances are computed together; unused lanes repeat the last triangle.
-  static constexpr int kLeafWidth = 8;
+  // Up to kLeafWidth triangles side by side, each corner and face normal (meshes::face_normal) as one array per
+  // axis, so their distances are computed together (16 lanes: one AVX-512 register of floats); unused lanes
+  // repeat the last triangle. The edges and their normals are computed from these where needed, as
+  // closest_on_triangle computes them (so to the bit): 48 bytes a float triangle instead of 120.
+  static constexpr int kLeafWidth = 16;
   template <class S>
-  struct Leaf {
-    std::array<S, kLeafWidth> a[3], b[3], c[3], ab[3], ac[3], bc[3];
-    std::array<S, kLeafWidth> n[3], across_ab[3], across_ac[3], across_bc[3];  // meshes::TriangleFrame
-    std::uint32_t first;  // BVH position of lane 0
-    std::uint32_t count;  // lanes that are triangles of their own
+  struct alignas(64) Leaf {
+    std::array<S, kLeafWidth> a[3], b[3], c[3], n[3];
   };
-  // Four children's boxes side by side (per axis, then child), tested together. A child is an inner node, or a
+  // kNodeWidth children's bounds side by side (per axis, then child), tested together. A child is an inner node, or a
   // leaf with kLeafBit set; an unused one has an empty box (lo = +inf), which is never nearer than any distance.
+  // Each child has an axis-aligned box and an oriented one (a centre, three unit axes, half extents along them)
+  // about its triangles' mean plane: on a curved surface's patch, or one askew to the axes, the oriented box is
+  // far the tighter: the search reads a third (torus) to a sixth (icosphere) of the leaves at random points.
   static constexpr std::uint32_t kLeafBit = 1u << 31;
+  static constexpr int kNodeWidth = 4;
   template <class S>
   struct BvhNode {
-    std::array<S, 4> lo[3], hi[3];
-    std::array<std::uint32_t, 4> child;
+    std::array<S, kNodeWidth> lo[3], hi[3];
+    std::array<S, kNodeWidth> centre[3], axes[3][3], half[3];  // axes[r][i]: axis r's component i
+    std::array<std::uint32_t, kNodeWidth> child;
   };
   // Triangles in BVH order, each with its corners, its normal and the pseudonormals of its features.
   template <class S>
@@ -99,10 +110,14 @@ class MeshDistance {
     std::vector<std::array<glm::vec<3, S>, 7>> normals;  // by Feature
     std::vector<BvhNode<S>> nodes;                          // the root first
     std::vector<Leaf<S>> leaves;
+    std::vector<std::uint32_t> leaf_first;  // BVH position of each leaf's lane 0
   };
   template <class S>
-  static Leaf<S> make_leaf(const std::vector<std::array<glm::vec<3, S>, 3>>& corners, std::uint32_t first,
-                           std::uint32_t count);
+  static void add_leaf(Arrays<S>& arrays, std::uint32_t first, std::uint32_t count);
+  template <class S>
+  static void set_oriented_box(BvhNode<S>& node, int k, const std::array<glm::dvec3, 3>& axes,
+                               const std::vector<std::array<glm::dvec3, 3>>& corners, std::uint32_t begin,
+                               std::uint32_t end);
   // The construction's stages: a binary tree by median splits, then collapsed to four-wide nodes in double and
   // in float.
   struct BinaryNode;
@@ -115,7 +130,8 @@ class MeshDistance {
   template <class S>
   struct Found {
     S best2;
-    std::uint32_t slot, leaf;
+    std::uint32_t slot, leaf, lane;
+    std::uint32_t leaves;  // searched
   };
   // The closest triangle to p, starting from leaf `start` (kNoLeaf: from the root alone).
   template <class S>
@@ -162,67 +178,81 @@ template <class S, std::size_t N>
   return v;
 }
 
-// (x, y, z) · across, lane by lane. Vectors by reference only: GCC checks a function's vector parameters and
-// return at the end of the translation unit, outside this file's diagnostic pragma, and -Werror then fails a
-// build without AVX over a call that is always inlined.
-template <class V, class A>
-[[gnu::always_inline]] inline void dot_lanes(const V& x, const V& y, const V& z, const A& across, V& out) {
-  out = x * lanes(across[0]) + y * lanes(across[1]) + z * lanes(across[2]);
-}
-
 // Squared distance from p to each of a leaf's triangles, by closest_on_triangle's arithmetic operation for
 // operation (so to the bit), with every candidate point computed and the one its branches would return chosen.
 template <class S, class L>
 inline void leaf_distance2(glm::vec<3, S> p, const L& l, S* out) {
   using V = decltype(lanes(l.a[0]));
-  const V apx = p.x - lanes(l.a[0]), apy = p.y - lanes(l.a[1]), apz = p.z - lanes(l.a[2]);
-  const V bpx = p.x - lanes(l.b[0]), bpy = p.y - lanes(l.b[1]), bpz = p.z - lanes(l.b[2]);
-  const V cpx = p.x - lanes(l.c[0]), cpy = p.y - lanes(l.c[1]), cpz = p.z - lanes(l.c[2]);
-  const V abx = lanes(l.ab[0]), aby = lanes(l.ab[1]), abz = lanes(l.ab[2]);
-  const V acx = lanes(l.ac[0]), acy = lanes(l.ac[1]), acz = lanes(l.ac[2]);
+  const V ax = lanes(l.a[0]), ay = lanes(l.a[1]), az = lanes(l.a[2]);
+  const V bx = lanes(l.b[0]), by = lanes(l.b[1]), bz = lanes(l.b[2]);
+  const V cx = lanes(l.c[0]), cy = lanes(l.c[1]), cz = lanes(l.c[2]);
+  const V nx = lanes(l.n[0]), ny = lanes(l.n[1]), nz = lanes(l.n[2]);
+  const V abx = bx - ax, aby = by - ay, abz = bz - az;
+  const V acx = cx - ax, acy = cy - ay, acz = cz - az;
+  const V bcx = cx - bx, bcy = cy - by, bcz = cz - bz;
+  const V apx = p.x - ax, apy = p.y - ay, apz = p.z - az;
+  const V bpx = p.x - bx, bpy = p.y - by, bpz = p.z - bz;
+  const V cpx = p.x - cx, cpy = p.y - cy, cpz = p.z - cz;
   const V d1 = abx * apx + aby * apy + abz * apz, d2 = acx * apx + acy * apy + acz * apz;
   const V d3 = abx * bpx + aby * bpy + abz * bpz, d4 = acx * bpx + acy * bpy + acz * bpz;
   const V d5 = abx * cpx + aby * cpy + abz * cpz, d6 = acx * cpx + acy * cpy + acz * cpz;
-  V vc, vb, va;
-  dot_lanes(apx, apy, apz, l.across_ab, vc);
-  dot_lanes(apx, apy, apz, l.across_ac, vb);
-  dot_lanes(bpx, bpy, bpz, l.across_bc, va);
+  // The edge functions with meshes::triangle_frame's n x ab, ac x n and n x bc, as glm::cross computes them.
+  const V vc = apx * (ny * abz - aby * nz) + apy * (nz * abx - abz * nx) + apz * (nx * aby - abx * ny);
+  const V vb = apx * (acy * nz - ny * acz) + apy * (acz * nx - nz * acx) + apz * (acx * ny - nx * acy);
+  const V va = bpx * (ny * bcz - bcy * nz) + bpy * (nz * bcx - bcz * nx) + bpz * (nx * bcy - bcx * ny);
   const V t01 = d1 / (d1 - d3), t20 = d2 / (d2 - d6), t12 = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-  const V nx = lanes(l.n[0]), ny = lanes(l.n[1]), nz = lanes(l.n[2]);
   // p's height over each plane, in units of |n|.
   const V plane = (apx * nx + apy * ny + apz * nz) / (nx * nx + ny * ny + nz * nz);
   const auto v0 = (d1 <= 0) & (d2 <= 0), v1 = (d3 >= 0) & (d4 <= d3), e01 = (vc <= 0) & (d1 >= 0) & (d3 <= 0);
   const auto v2 = (d6 >= 0) & (d5 <= d6), e20 = (vb <= 0) & (d2 >= 0) & (d6 <= 0);
   const auto e12 = (va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0);
+  const V a[3] = {ax, ay, az}, b[3] = {bx, by, bz}, c[3] = {cx, cy, cz}, n[3] = {nx, ny, nz};
+  const V ab[3] = {abx, aby, abz}, ac[3] = {acx, acy, acz}, bc[3] = {bcx, bcy, bcz};
   V d[3];
   for (int i = 0; i < 3; ++i) {
-    const V a = lanes(l.a[i]), b = lanes(l.b[i]), ab = lanes(l.ab[i]), ac = lanes(l.ac[i]);
-    V q = p[i] - lanes(l.n[i]) * plane;
-    q = e12 ? b + lanes(l.bc[i]) * t12 : q;
-    q = e20 ? a + ac * t20 : q;
-    q = v2 ? lanes(l.c[i]) : q;
-    q = e01 ? a + ab * t01 : q;
-    q = v1 ? b : q;
-    q = v0 ? a : q;
+    V q = p[i] - n[i] * plane;
+    q = e12 ? b[i] + bc[i] * t12 : q;
+    q = e20 ? a[i] + ac[i] * t20 : q;
+    q = v2 ? c[i] : q;
+    q = e01 ? a[i] + ab[i] * t01 : q;
+    q = v1 ? b[i] : q;
+    q = v0 ? a[i] : q;
     d[i] = p[i] - q;
   }
   const V d2sum = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
   std::memcpy(out, &d2sum, sizeof d2sum);
 }
 
-// Squared distance from p to each of four boxes.
-template <class S>
-inline void boxes_distance2(glm::vec<3, S> p, const std::array<S, 4> (&lo)[3], const std::array<S, 4> (&hi)[3],
-                            S* out) {
-  using V = decltype(lanes(lo[0]));
-  V sum{};
+// A lower bound on the squared distance from p to each of a node's four children: the larger of the squared
+// distances to its axis-aligned box and to its oriented box. The oriented one is computed in S and lowered by what
+// rounding can add to it: p's coordinates along an axis ((p - centre) . axis) err by at most 4 roundoffs of
+// |p - centre|'s L1 norm (a subtraction and a three-term dot product; an axis's components are at most 1), taken
+// off 32 times over; the axes, unit vectors rounded to S, are orthonormal to a few roundoffs, so the sum of
+// squares is scaled down by 64 of them.
+template <class S, class Node>
+inline void bounds_distance2(glm::vec<3, S> p, const Node& node, S* out) {
+  using V = decltype(lanes(node.lo[0]));
+  constexpr S kRoundoff = std::numeric_limits<S>::epsilon() / 2;
+  V box{};
   for (int i = 0; i < 3; ++i) {
-    const V below = lanes(lo[i]) - p[i], above = p[i] - lanes(hi[i]);
+    const V below = lanes(node.lo[i]) - p[i], above = p[i] - lanes(node.hi[i]);
     V d = below > above ? below : above;
     d = d < 0 ? V{} : d;  // NaN stays NaN (a point with a NaN coordinate searches nothing)
-    sum = i == 0 ? d * d : sum + d * d;
+    box = i == 0 ? d * d : box + d * d;
   }
-  std::memcpy(out, &sum, sizeof sum);
+  const V x = p.x - lanes(node.centre[0]), y = p.y - lanes(node.centre[1]), z = p.z - lanes(node.centre[2]);
+  const V slack = (32 * 4 * kRoundoff) * ((x < 0 ? -x : x) + (y < 0 ? -y : y) + (z < 0 ? -z : z));
+  V oriented{};
+  for (int r = 0; r < 3; ++r) {
+    V along = x * lanes(node.axes[r][0]) + y * lanes(node.axes[r][1]) + z * lanes(node.axes[r][2]);
+    along = (along < 0 ? -along : along) - lanes(node.half[r]) - slack;
+    along = along < 0 ? V{} : along;
+    oriented = r == 0 ? along * along : oriented + along * along;
+  }
+  oriented *= 1 - 64 * kRoundoff;
+  // A NaN box distance stays NaN whatever the oriented box's.
+  const V bound = oriented > box ? oriented : box;
+  std::memcpy(out, &bound, sizeof bound);
 }
 #pragma GCC diagnostic pop
 
@@ -233,27 +263,39 @@ void MeshDistance::take_leaf(glm::vec<3, S> p, std::uint32_t index, Found<S>& fo
   const Leaf<S>& l = arrays<S>().leaves[index];
   S d2[kLeafWidth];
   detail::leaf_distance2(p, l, d2);
-  for (std::uint32_t k = 0; k < l.count; ++k)
+  ++found.leaves;
+  // A lane repeating the last triangle is never strictly nearer than it.
+  const std::uint32_t before = found.slot;
+  for (std::uint32_t k = 0; k < kLeafWidth; ++k)
     if (d2[k] < found.best2) {
       found.best2 = d2[k];
-      found.slot = l.first + k;
+      found.slot = arrays<S>().leaf_first[index] + k;
       found.leaf = index;
+      found.lane = k;
     }
+  // What closest_of will read of the nearest so far, fetched while the search goes on (a cache miss each, a fifth
+  // of a query's time when waited for at the end).
+  if (found.slot != before) {
+    __builtin_prefetch(&order_[found.slot]);
+    const char* normals = reinterpret_cast<const char*>(&arrays<S>().normals[found.slot]);
+    __builtin_prefetch(normals);
+    __builtin_prefetch(normals + sizeof(arrays<S>().normals[0]) - 1);
+  }
 }
 
 template <class S>
 MeshDistance::Found<S> MeshDistance::search(glm::vec<3, S> p, std::uint32_t start) const {
   const Arrays<S>& a = arrays<S>();
-  Found<S> found{std::numeric_limits<S>::infinity(), 0, kNoLeaf};
+  Found<S> found{std::numeric_limits<S>::infinity(), 0, kNoLeaf, 0, 0};
   if (start != kNoLeaf) take_leaf(p, start, found);
   // Nodes still to search with their boxes' distance2, pruned on popping against the best found by then; the
   // nearest child is searched at once, the others wait on the stack, nearer ones on top. The collapsed median
-  // tree is at most 32 levels deep, with three waiting per level.
+  // tree is at most 32 levels deep, with kNodeWidth - 1 waiting per level.
   struct Pending {
     std::uint32_t node;
     S box2;
   };
-  Pending stack[96];
+  Pending stack[32 * (kNodeWidth - 1)];
   int top = 0;
   std::uint32_t at = 0;
   for (;;) {
@@ -261,11 +303,11 @@ MeshDistance::Found<S> MeshDistance::search(glm::vec<3, S> p, std::uint32_t star
       if ((at & ~kLeafBit) != start) take_leaf(p, at & ~kLeafBit, found);
     } else {
       const BvhNode<S>& n = a.nodes[at];
-      S box2[4];
-      detail::boxes_distance2(p, n.lo, n.hi, box2);
+      S box2[kNodeWidth];
+      detail::bounds_distance2(p, n, box2);
       // The children nearer than the best, nearest first.
-      int near[4], count = 0;
-      for (int k = 0; k < 4; ++k) {
+      int near[kNodeWidth], count = 0;
+      for (int k = 0; k < kNodeWidth; ++k) {
         if (!(box2[k] < found.best2)) continue;
         int j = count++;
         for (; j > 0 && box2[near[j - 1]] > box2[k]; --j) near[j] = near[j - 1];
@@ -288,7 +330,17 @@ template <class S>
 MeshDistance::Closest<S> MeshDistance::closest_of(glm::vec<3, S> p, const Found<S>& found) const {
   const Arrays<S>& a = arrays<S>();
   Closest<S> best;
-  best.point = meshes::closest_on_triangle(p, a.corners[found.slot], best.feature);
+  // The corners from the leaf the search ended in, in cache (a.corners[found.slot] has the same values).
+  std::array<glm::vec<3, S>, 3> corners = a.corners[0];
+  if (found.leaf != kNoLeaf) {
+    const Leaf<S>& l = a.leaves[found.leaf];
+    for (int i = 0; i < 3; ++i) {
+      corners[0][i] = l.a[i][found.lane];
+      corners[1][i] = l.b[i][found.lane];
+      corners[2][i] = l.c[i][found.lane];
+    }
+  }
+  best.point = meshes::closest_on_triangle(p, corners, best.feature);
   // Where no triangle was found (a point with a NaN coordinate, or so far that every distance overflows), the
   // distance to triangle 0's point: NaN or +inf, never a finite number.
   best.distance2 = found.leaf == kNoLeaf ? glm::dot(p - best.point, p - best.point) : found.best2;
@@ -305,7 +357,7 @@ MeshDistance::Closest<S> MeshDistance::closest(glm::vec<3, S> p) const {
 
 template <class S>
 void MeshDistance::closest(const glm::vec<3, S>* points, Closest<S>* out, int n) const {
-  Found<S> previous{0, 0, kNoLeaf};
+  Found<S> previous{0, 0, kNoLeaf, 0, 0};
   for (int i = 0; i < n; ++i) {
     const glm::vec<3, S> p = points[i], step = i > 0 ? p - points[i - 1] : glm::vec<3, S>(0);
     // Within the previous point's distance, that point's closest triangle lies within twice that distance of p: a
