@@ -167,26 +167,25 @@ namespace detail {
 
 // A row of lanes as a GCC vector, so the compiler computes them in SIMD registers whatever it makes of a loop.
 // Always inlined, so that no call passes a vector wider than the target's registers: GCC's warning that such a
-// return changes the ABI (without -march=native) concerns calls that never happen (down to boxes_distance2).
+// return changes the ABI (without -march=native) concerns calls that never happen (down to bounds_distance2).
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
-template <class S, std::size_t N>
-[[gnu::always_inline]] inline auto lanes(const std::array<S, N>& a) {
+template <std::size_t N, class S>
+[[gnu::always_inline]] inline auto lanes(const S* a) {
   typedef S V __attribute__((vector_size(N * sizeof(S))));
   V v;
-  std::memcpy(&v, a.data(), sizeof v);
+  std::memcpy(&v, a, sizeof v);
   return v;
 }
 
-// Squared distance from p to each of a leaf's triangles, by closest_on_triangle's arithmetic operation for
-// operation (so to the bit), with every candidate point computed and the one its branches would return chosen.
-template <class S, class L>
-inline void leaf_distance2(glm::vec<3, S> p, const L& l, S* out) {
-  using V = decltype(lanes(l.a[0]));
-  const V ax = lanes(l.a[0]), ay = lanes(l.a[1]), az = lanes(l.a[2]);
-  const V bx = lanes(l.b[0]), by = lanes(l.b[1]), bz = lanes(l.b[2]);
-  const V cx = lanes(l.c[0]), cy = lanes(l.c[1]), cz = lanes(l.c[2]);
-  const V nx = lanes(l.n[0]), ny = lanes(l.n[1]), nz = lanes(l.n[2]);
+// leaf_distance2 for lanes [at, at + N) of leaf l.
+template <std::size_t N, class S, class L>
+inline void leaf_row_distance2(glm::vec<3, S> p, const L& l, std::size_t at, S* out) {
+  using V = decltype(lanes<N>(l.a[0].data()));
+  const V ax = lanes<N>(l.a[0].data() + at), ay = lanes<N>(l.a[1].data() + at), az = lanes<N>(l.a[2].data() + at);
+  const V bx = lanes<N>(l.b[0].data() + at), by = lanes<N>(l.b[1].data() + at), bz = lanes<N>(l.b[2].data() + at);
+  const V cx = lanes<N>(l.c[0].data() + at), cy = lanes<N>(l.c[1].data() + at), cz = lanes<N>(l.c[2].data() + at);
+  const V nx = lanes<N>(l.n[0].data() + at), ny = lanes<N>(l.n[1].data() + at), nz = lanes<N>(l.n[2].data() + at);
   const V abx = bx - ax, aby = by - ay, abz = bz - az;
   const V acx = cx - ax, acy = cy - ay, acz = cz - az;
   const V bcx = cx - bx, bcy = cy - by, bcz = cz - bz;
@@ -223,6 +222,17 @@ inline void leaf_distance2(glm::vec<3, S> p, const L& l, S* out) {
   std::memcpy(out, &d2sum, sizeof d2sum);
 }
 
+// Squared distance from p to each of a leaf's triangles, by closest_on_triangle's arithmetic operation for
+// operation (so to the bit), with every candidate point computed and the one its branches would return chosen.
+// In rows of at most 64 bytes (16 floats, 8 doubles): clang 14 cannot split a row of 16 doubles under
+// -frounding-math (a backend crash in the fuzz build).
+template <class S, class L>
+inline void leaf_distance2(glm::vec<3, S> p, const L& l, S* out) {
+  constexpr std::size_t kLanes = sizeof(l.a[0]) / sizeof(S);
+  constexpr std::size_t kRow = std::min(kLanes, 64 / sizeof(S));
+  for (std::size_t at = 0; at < kLanes; at += kRow) leaf_row_distance2<kRow>(p, l, at, out + at);
+}
+
 // A lower bound on the squared distance from p to each of a node's four children: the larger of the squared
 // distances to its axis-aligned box and to its oriented box. The oriented one is computed in S and lowered by what
 // rounding can add to it: p's coordinates along an axis ((p - centre) . axis) err by at most 4 roundoffs of
@@ -231,21 +241,25 @@ inline void leaf_distance2(glm::vec<3, S> p, const L& l, S* out) {
 // squares is scaled down by 64 of them.
 template <class S, class Node>
 inline void bounds_distance2(glm::vec<3, S> p, const Node& node, S* out) {
-  using V = decltype(lanes(node.lo[0]));
+  constexpr std::size_t kWidth = sizeof(node.lo[0]) / sizeof(S);
+  using V = decltype(lanes<kWidth>(node.lo[0].data()));
   constexpr S kRoundoff = std::numeric_limits<S>::epsilon() / 2;
   V box{};
   for (int i = 0; i < 3; ++i) {
-    const V below = lanes(node.lo[i]) - p[i], above = p[i] - lanes(node.hi[i]);
+    const V below = lanes<kWidth>(node.lo[i].data()) - p[i], above = p[i] - lanes<kWidth>(node.hi[i].data());
     V d = below > above ? below : above;
     d = d < 0 ? V{} : d;  // NaN stays NaN (a point with a NaN coordinate searches nothing)
     box = i == 0 ? d * d : box + d * d;
   }
-  const V x = p.x - lanes(node.centre[0]), y = p.y - lanes(node.centre[1]), z = p.z - lanes(node.centre[2]);
+  const V x = p.x - lanes<kWidth>(node.centre[0].data());
+  const V y = p.y - lanes<kWidth>(node.centre[1].data());
+  const V z = p.z - lanes<kWidth>(node.centre[2].data());
   const V slack = (32 * 4 * kRoundoff) * ((x < 0 ? -x : x) + (y < 0 ? -y : y) + (z < 0 ? -z : z));
   V oriented{};
   for (int r = 0; r < 3; ++r) {
-    V along = x * lanes(node.axes[r][0]) + y * lanes(node.axes[r][1]) + z * lanes(node.axes[r][2]);
-    along = (along < 0 ? -along : along) - lanes(node.half[r]) - slack;
+    const auto& axis = node.axes[r];
+    V along = x * lanes<kWidth>(axis[0].data()) + y * lanes<kWidth>(axis[1].data()) + z * lanes<kWidth>(axis[2].data());
+    along = (along < 0 ? -along : along) - lanes<kWidth>(node.half[r].data()) - slack;
     along = along < 0 ? V{} : along;
     oriented = r == 0 ? along * along : oriented + along * along;
   }
