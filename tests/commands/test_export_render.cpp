@@ -1,8 +1,8 @@
 // Every built-in's Shadertoy export rendered on the GL driver beside marchcheck's own render, pixel by pixel, with
 // validate's image rule: a pixel differs when a colour channel differs by more than 0.1 (here in the sRGB both
-// images show), and at most 2% may (image.pixels_over's default limit). The settings no built-in uses are rendered
-// as variants and held closer (kLevel). Skips without a driver. Every
-// export renders finite pixels. Broken variants: tests/mutants/sdf-export-* (the camera's rows counted from the
+// images show), and at most 2% may (image.pixels_over's default limit); on llvmpipe the built-ins that do not turn
+// on its transcendentals, and the settings no built-in uses (rendered as variants), are held closer (kLevel).
+// Skips without a driver. Every export renders finite pixels. Broken variants: tests/mutants/sdf-export-* (the camera's rows counted from the
 // bottom, a light without its colour, each effect dropped or computed otherwise).
 #include "marchcheck/gpu/user_marcher.hpp"
 #include "marchcheck/march/render.hpp"
@@ -78,15 +78,31 @@ void skip_without_driver() {
   }
 }
 
+// Built-ins whose pixels turn on the driver's own transcendentals, so that more than 0.1% of them move by more
+// than one level on llvmpipe too (measured at 160 px: crum-mandelbulb 2.8%, its pow at every iteration;
+// crum-lattice 0.28% and its defect 0.63%, edges of a thousand bars; lee-terrain-defect-hash 0.08%, near the limit,
+// the seed's sin hash). Of every other built-in at most 2 pixels in 14 400 differ by more there (crum-torus).
+bool on_the_drivers_transcendentals(const std::string& name) {
+  return name == "crum-mandelbulb" || name == "crum-lattice" || name == "crum-lattice-defect-lipschitz" ||
+         name == "lee-terrain-defect-hash";
+}
+
+// Validate's rule for every built-in and, on llvmpipe, one level for the rest: at validate's rule alone the glass
+// sphere's refraction with the index ratio inverted passed (1.9% of lee-glass's pixels, sdf-export-refraction-eta).
 TEST(ExportRender, EveryBuiltinsExportRendersOnTheDriverWithinTheImageTolerance) {
   skip_without_driver();
   if (IsSkipped()) return;
+  const bool llvmpipe = gpu::driver_renderer().find("llvmpipe") != std::string::npos;
   int compared = 0;
   for (const std::string& name : sdf::builtin_scene_names()) {
     const sdf::Scene scene = sdf::scaled_to_width(sdf::builtin_scene(name), 160);
-    const double fraction = pixels_over(scene, {kValidateLevel})[0];
-    RecordProperty(name + "_pixels_over", std::to_string(fraction));
-    EXPECT_LE(fraction, kValidateFraction) << name;
+    const std::vector<double> over = pixels_over(scene, {kValidateLevel, kLevel});
+    RecordProperty(name + "_pixels_over", std::to_string(over[0]));
+    RecordProperty(name + "_pixels_over_one_level", std::to_string(over[1]));
+    EXPECT_LE(over[0], kValidateFraction) << name;
+    if (llvmpipe && !on_the_drivers_transcendentals(name)) {
+      EXPECT_LE(over[1], kLevelFraction) << name;
+    }
     ++compared;
   }
   RecordProperty("compared", compared);
