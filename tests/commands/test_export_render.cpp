@@ -2,8 +2,8 @@
 // validate's image rule: a pixel differs when a colour channel differs by more than 0.1 (here in the sRGB both
 // images show), and at most 2% may (image.pixels_over's default limit); on llvmpipe the built-ins that do not turn
 // on its transcendentals, and the settings no built-in uses (rendered as variants), are held closer (kLevel).
-// Skips without a driver. Every export renders finite pixels. Broken variants: tests/mutants/sdf-export-* (the camera's rows counted from the
-// bottom, a light without its colour, each effect dropped or computed otherwise).
+// Skips without a driver. Every export renders finite pixels. Broken variants: tests/mutants/sdf-export-* (the
+// camera's rows counted from the bottom, a light without its colour, each effect dropped or computed otherwise).
 #include "marchcheck/gpu/user_marcher.hpp"
 #include "marchcheck/march/render.hpp"
 #include "marchcheck/march/texture.hpp"
@@ -70,6 +70,9 @@ constexpr double kValidateFraction = 0.02;  // and its default limit
 constexpr float kLevel = 1.5f / 255;
 constexpr double kLevelFraction = 0.001;
 
+// Mesa's software driver, IEEE arithmetic throughout: the one where kLevel holds.
+bool on_llvmpipe() { return gpu::driver_renderer().find("llvmpipe") != std::string::npos; }
+
 void skip_without_driver() {
   try {
     gpu::driver_renderer();
@@ -92,7 +95,7 @@ bool on_the_drivers_transcendentals(const std::string& name) {
 TEST(ExportRender, EveryBuiltinsExportRendersOnTheDriverWithinTheImageTolerance) {
   skip_without_driver();
   if (IsSkipped()) return;
-  const bool llvmpipe = gpu::driver_renderer().find("llvmpipe") != std::string::npos;
+  const bool llvmpipe = on_llvmpipe();
   int compared = 0;
   for (const std::string& name : sdf::builtin_scene_names()) {
     const sdf::Scene scene = sdf::scaled_to_width(sdf::builtin_scene(name), 160);
@@ -115,7 +118,7 @@ TEST(ExportRender, EveryBuiltinsExportRendersOnTheDriverWithinTheImageTolerance)
 TEST(ExportRender, EverySettingTheExportWritesRendersAsTheRenderer) {
   skip_without_driver();
   if (IsSkipped()) return;
-  const bool llvmpipe = gpu::driver_renderer().find("llvmpipe") != std::string::npos;
+  const bool llvmpipe = on_llvmpipe();
   struct Variant {
     const char* scene;
     std::vector<std::pair<const char*, const char*>> settings;
