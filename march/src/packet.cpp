@@ -79,7 +79,7 @@ inline bool settle(Lanes<T>& l, int i, Int<T>& code, T v, T t, T a, Int<T> steps
 // number). Every lane loads and computes every outcome, then selects (`&`, not `&&`): a load or an addition made
 // conditional does not vectorise. Returns the number of lanes still running.
 template <bool First, bool Relaxed, bool Secant, class T>
-int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slope, int max_steps) {
+int feed_lanes(Lanes<T>& l, int count, int step, T scale, T radius, T eps_at_0, T eps_slope, int max_steps) {
   using I = Int<T>;
   const T largest = std::numeric_limits<T>::max();
   const I running = kRunning, miss_far = I(Outcome::miss_far), hit = I(Outcome::hit), inside = I(Outcome::inside),
@@ -101,7 +101,7 @@ int feed_lanes(Lanes<T>& l, int count, int step, T scale, T eps_at_0, T eps_slop
       // The last step's length, SphereTrace's prev_step, is prev_f * omega * scale bit for bit: a forward step
       // is v * omega * scale with omega unchanged, a step back prev_f * scale with omega 1 from then on.
       omega = l.omega[i];
-      const T reach = a + prev_f, prev_step = prev_f * omega * scale, back_to = prev_t + prev_f * scale;
+      const T reach = (a + prev_f) * radius, prev_step = prev_f * omega * scale, back_to = prev_t + prev_f * scale;
       back = (omega > T(1)) & (reach < prev_step);
       forward_step = v * omega * scale;
       const T ahead = t + forward_step;
@@ -265,7 +265,8 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
     l.max_dist[i] = span.t1;
     l.id[i] = ids[i];
   }
-  const T scale = SphereTrace<T>(s, c, T(0), T(0)).scale();
+  const SphereTrace<T> trace(s, c, T(0), T(0));
+  const T scale = trace.scale(), radius = trace.radius();
   const T eps_at_0 = s.eps_mode == EpsMode::absolute ? T(s.hit_eps)
                      : s.eps_mode == EpsMode::pixel  ? T(c.footprint_at_0)
                                                      : T(0);
@@ -277,7 +278,7 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
     if constexpr (R == Rule::fixed)
       return feed_fixed_lanes<First>(l, count, step, T(s.fixed_step), eps_at_0, eps_slope, s.max_steps);
     else
-      return feed_lanes<First, R == Rule::relaxed, Secant>(l, count, step, scale, eps_at_0, eps_slope, s.max_steps);
+      return feed_lanes<First, R == Rule::relaxed, Secant>(l, count, step, scale, radius, eps_at_0, eps_slope, s.max_steps);
   };
   int count = n;
   for (int step = 1; count > 0; ++step) {

@@ -126,6 +126,8 @@ TEST(ExportRender, EverySettingTheExportWritesRendersAsTheRenderer) {
   };
   const Variant variants[] = {
       {"lee-flat", {{"marcher", "relaxed"}}},
+      // L = 1.31: steps and unbounding spheres of f / L (sdf-export-relaxed-radius-dropped).
+      {"lee-terrain", {{"marcher", "relaxed"}}},
       {"lee-flat", {{"marcher", "fixed"}, {"fixed_step", "0.2"}, {"max_steps", "400"}}},
       {"lee-flat", {{"marcher", "scaled"}, {"step_scale", "0.9"}}},
       // At a threshold this coarse, hits land 2 units short at grazing angles unless refined (sdf-export-secant-dropped).

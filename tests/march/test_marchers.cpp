@@ -232,6 +232,25 @@ TEST(ScaledTracing, StepsSafelyThroughAFieldWithLipschitzAboveOne) {
   EXPECT_GT(std::abs(plain.t - 2.75), 0.1);
 }
 
+// The relaxed marcher on a field of declared L = 4 (the squashed sphere above, surface at t = 2.75 from f = 11):
+// its first step, 1.6 * 11 / 4 = 4.4, passes the surface to x = 1.4 (f = 4.6 beyond it); the unbounding spheres,
+// of radius f / L (11 / 4 and 4.6 / 4), do not reach each other, so it steps back to 11 / 4 and hits exactly there.
+// Broken variants: L ignored, the seed's steps of 1.6 f (march-relaxed-ignores-lipschitz: steps to x = 14.6 and
+// misses), spheres of radius f (march-relaxed-radius-unscaled: they overlap, so it marches on from x = 1.4, past
+// the surface, and misses).
+TEST(RelaxedTracing, StepsByTheDeclaredLipschitzBoundAndStepsBackByIt) {
+  const sdf::Node squashed =
+      sdf::make(sdf::Op::affine, {{"model", {0.25, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}}}, {sdf::sphere(1)});
+  const sdf::Tape tape = sdf::compile(squashed);
+  const TapeField field{&tape};
+  const MarchContext c{sdf::derive_info(squashed).lipschitz, 0, 0};
+  ASSERT_NEAR(c.lipschitz, 4.0, 1e-9);
+  const auto r = march<double>(field, V(-3, 0, 0), V(1, 0, 0), settings(Marcher::relaxed, 1000, 1e-4), c);
+  ASSERT_EQ(r.outcome, Outcome::hit);
+  EXPECT_NEAR(r.t, 2.75, 1e-12);
+  EXPECT_EQ(r.evals, 3);  // x = -3, 1.4, then -0.25
+}
+
 TEST(FixedStep, BisectsTheCrossingToEps) {
   MarchSettings s = settings(Marcher::fixed, 10000, 1e-9);
   s.fixed_step = 0.3;

@@ -588,9 +588,7 @@ void judge_field(Judging& j, const std::vector<std::pair<dvec3, double>>& surfac
   // change by L per unit; above 1 a step can cross the surface. (The relaxed marcher's fallback is its own
   // guard: its base step counts.)
   const auto& s = j.scene.march;
-  const double per_unit = s.marcher == sdf::Marcher::scaled ? s.step_scale / j.declared
-                          : s.marcher == sdf::Marcher::fixed ? 0
-                                                             : s.step_scale;
+  const double per_unit = s.marcher == sdf::Marcher::fixed ? 0 : sdf::step_per_unit_f(s, j.declared);
   m["march.safe_step_ratio"] = lipschitz * per_unit * (1 + ray_norm_err);
   if (std::isfinite(overestimate)) m["sdf.overestimate_max"] = overestimate;
   if (std::isfinite(marched_overestimate)) m["sdf.overestimate_marched_max"] = marched_overestimate;

@@ -733,15 +733,12 @@ std::string hit_eps_code(const Scene& s) {
   return "float hitEps(float t) { return " + eps + "; }\n";
 }
 
-// How far a step goes per unit of f (march::step_per_unit_f): step_scale, over the declared L for the scaled
-// marcher. Marches and soft shadows step by it.
-double step_per_unit_f(const Scene& s) {
-  const MarchSettings& m = s.march;
-  return m.marcher == Marcher::scaled ? m.step_scale / derive_info(s.root, s.time).lipschitz : m.step_scale;
-}
+// How far a step goes per unit of f (sdf::step_per_unit_f with the scene's declared L). Marches and soft shadows
+// step by it.
+double step_per_unit_f(const Scene& s) { return step_per_unit_f(s.march, derive_info(s.root, s.time).lipschitz); }
 
 // The scene's marcher as march::march runs it, outcome for outcome: sphere tracing in steps of f (scaled: f / L,
-// relaxed: over-relaxed with Keinert et al.'s fallback), or fixed steps with bisection of the crossing.
+// relaxed: over-relaxed steps of f / L with Keinert et al.'s fallback), or fixed steps with bisection of the crossing.
 std::string marcher_code(const Scene& s) {
   const MarchSettings& m = s.march;
   std::ostringstream out;
@@ -772,11 +769,12 @@ std::string marcher_code(const Scene& s) {
     return out.str();
   }
   out << "  float t = 0.0, omega = " << literal(m.marcher == Marcher::relaxed ? float(m.relaxation) : 1.0f)
-      << ", prevT = 0.0, prevF = 0.0, prevStep = 0.0;\n  const float scale = " << literal(float(step_per_unit_f(s))) << ";\n"
+      << ", prevT = 0.0, prevF = 0.0, prevStep = 0.0;\n  const float scale = " << literal(float(step_per_unit_f(s)))
+      << ", radius = " << literal(float(1 / derive_info(s.root, s.time).lipschitz)) << ";  // radius: 1 / L\n"
       << "  while (r.steps < MAX_STEPS) {\n    float v = probe(r, ro, rd, t, side), eps = hitEps(t);\n"
       << "    if (isnan(v) || isinf(v)) { r.outcome = 4; return r; }\n"
       << "    if (r.steps == 1 && v < -eps) { r.outcome = 3; return r; }\n"
-      << "    if (omega > 1.0 && abs(v) + prevF < prevStep) {  // the spheres do not overlap: a plain step back\n"
+      << "    if (omega > 1.0 && (abs(v) + prevF) * radius < prevStep) {  // the spheres do not overlap: step back\n"
       << "      omega = 1.0; t = prevT + prevF * scale; prevStep = prevF * scale;\n"
       << "    } else {\n      if (v < eps) {\n"
       << (m.refine == HitRefine::secant

@@ -73,11 +73,10 @@ inline T hit_threshold(const MarchSettings& s, const MarchContext& c, T t) {
   return T(s.hit_eps);
 }
 
-// How far a step goes per unit of f: step_scale, and for the scaled marcher divided by the declared L (the
-// relaxed marcher's base step too). Marchers and soft shadows step by the same rule.
+// How far a step goes per unit of f (sdf::step_per_unit_f with the context's declared L), in T.
 template <class T>
 inline T step_per_unit_f(const MarchSettings& s, const MarchContext& c) {
-  return s.marcher == Marcher::scaled ? T(s.step_scale / c.lipschitz) : T(s.step_scale);
+  return T(sdf::step_per_unit_f(s, c.lipschitz));
 }
 
 // The root of the line through the samples (prev_t, prev_f) and (t, v): a Newton step on f(o + t d) = 0 with the
@@ -173,8 +172,9 @@ inline bool ray_invalid(glm::vec<3, T> origin, glm::vec<3, T> direction, T t_sta
 
 }  // namespace detail
 
-// Sphere tracing; relaxed: steps of omega * f, falling back to a plain step from the previous point when the
-// unbounding spheres of two consecutive points do not overlap (Keinert et al. 2014); scaled: steps of f / L.
+// Sphere tracing; scaled: steps of f / L; relaxed: steps of omega * f / L, falling back to a plain step from the
+// previous point when the unbounding spheres of two consecutive points (radius f / L) do not overlap (Keinert et
+// al. 2014).
 // Written as a state machine fed one field value at a time, so that march() and a packet of rays sharing
 // batched evaluations (packet.hpp) take exactly the same steps.
 template <class T>
@@ -188,6 +188,7 @@ class SphereTrace {
         max_dist_(max_dist),
         scale_(step_per_unit_f<T>(s, c)),
         omega_(s.marcher == Marcher::relaxed ? T(s.relaxation) : T(1)),
+        radius_(T(1 / c.lipschitz)),
         t_(t_start),
         prev_t_(t_start) {
     if (!(r_.steps < s.max_steps)) end(Outcome::miss_steps);
@@ -195,6 +196,7 @@ class SphereTrace {
   bool done() const { return done_; }
   T t() const { return t_; }  // where the field is wanted next
   T scale() const { return scale_; }  // a step is f * omega * scale
+  T radius() const { return radius_; }  // an unbounding sphere's radius per unit of f: 1 / L
   const RayRecord<T>& record() const { return r_; }
 
   // Takes the field's value at t(): records the step, then moves t or ends the record.
@@ -208,7 +210,7 @@ class SphereTrace {
     if (!std::isfinite(v)) return end(Outcome::invalid);
     const T eps = hit_threshold(*s_, *c_, t_);
     if (r_.steps == 1 && v < -eps) return end(Outcome::inside);
-    if (omega_ > T(1) && std::abs(v) + prev_f_ < prev_step_) {
+    if (omega_ > T(1) && (std::abs(v) + prev_f_) * radius_ < prev_step_) {
       omega_ = 1;
       t_ = prev_t_ + prev_f_ * scale_;
       prev_step_ = prev_f_ * scale_;
@@ -246,7 +248,7 @@ class SphereTrace {
   }
   const MarchSettings* s_ = nullptr;
   const MarchContext* c_ = nullptr;
-  T max_dist_ = 0, scale_ = 1, omega_ = 1, t_ = 0, prev_t_ = 0, prev_f_ = 0, prev_step_ = 0;
+  T max_dist_ = 0, scale_ = 1, omega_ = 1, radius_ = 1, t_ = 0, prev_t_ = 0, prev_f_ = 0, prev_step_ = 0;
   T stopped_t_ = 0, stopped_abs_f_ = 0;  // where the march stopped, while its secant root is evaluated
   RayRecord<T> r_;
   bool done_ = false, refining_ = false;

@@ -73,6 +73,14 @@ struct MarchSettings {
   Coordinates coordinates = Coordinates::world;
 };
 
+// How far a step goes per unit of f on a field of declared Lipschitz bound L: step_scale, over L for the marchers
+// that honour L (scaled; relaxed, whose over-relaxed step and unbounding spheres build on f / L). The sphere marcher
+// steps by f whatever L is, as the seeds do; the fixed marcher does not step by f. Marches, soft shadows, the
+// validator's safe-step check and the exported GLSL marcher all step by this one rule.
+inline double step_per_unit_f(const MarchSettings& m, double lipschitz) {
+  return m.marcher == Marcher::scaled || m.marcher == Marcher::relaxed ? m.step_scale / lipschitz : m.step_scale;
+}
+
 enum class SpecularModel { none, phong, blinn };
 enum class TextureMapping { none, planar, spherical };
 
