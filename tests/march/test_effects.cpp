@@ -137,21 +137,27 @@ TEST(Shadows, ClassicAndImprovedSoftShadowsBracketTheTrueClosestApproach) {
 }
 
 // A thin slab (y in [0.99, 1.01]) above the ground under a field twice as steep as its distance. A marcher told to
-// step by half of f (step_scale 0.5, the sphere marcher), or by f / L (the scaled one, L = 2), cannot jump it,
-// and neither may the shadow rays of the same march. Broken variant (drift fixed here): soft shadows stepping
-// by f, ignoring step_scale: from y = 0.005 the first step of 1.97 lands past the slab and the point is lit.
+// step by half of f (step_scale 0.5, the sphere marcher), or by f / L (the scaled one and the relaxed one, L = 2),
+// cannot jump it, and neither may the shadow rays of the same march (the relaxed one's first step, 1.6 f / 2, passes
+// the slab and steps back onto it). Broken variants: soft shadows stepping by f, ignoring step_scale (drift fixed
+// here: from y = 0.005 the first step of 1.97 lands past the slab and the point is lit), the relaxed marcher
+// ignoring L (march-relaxed-ignores-lipschitz).
 TEST(Shadows, EveryShadowStepsAsTheMarcherDoesOnASteepField) {
   const auto steep = [](auto p) { return decltype(p.x)(2) * (std::abs(p.y - decltype(p.x)(1)) - decltype(p.x)(0.01)); };
   MarchSettings half = seed_settings();
   half.step_scale = 0.5;
   MarchSettings scaled = seed_settings();
   scaled.marcher = sdf::Marcher::scaled;
+  MarchSettings relaxed = scaled;
+  relaxed.marcher = sdf::Marcher::relaxed;
   MarchContext steep_context;
   steep_context.lipschitz = 2;
   for (auto mode : {sdf::ShadowMode::hard, sdf::ShadowMode::soft})
-    for (const auto& [settings, context] : {std::pair{half, MarchContext{}}, std::pair{scaled, steep_context}}) {
-      SCOPED_TRACE(std::string(mode == sdf::ShadowMode::hard ? "hard" : "soft") +
-                   (settings.marcher == sdf::Marcher::scaled ? ", scaled by L" : ", step_scale 0.5"));
+    for (const auto& [settings, context] :
+         {std::pair{half, MarchContext{}}, std::pair{scaled, steep_context}, std::pair{relaxed, steep_context}}) {
+      SCOPED_TRACE(std::string(mode == sdf::ShadowMode::hard ? "hard" : "soft") + ", marcher " +
+                   std::to_string(static_cast<int>(settings.marcher)) + ", step_scale " +
+                   std::to_string(settings.step_scale));
       const auto light = overhead(mode, sdf::ShadowBias::scaled);
       EXPECT_EQ(shadow_visibility<double>(steep, V(0, 0.005, 0), V(0, 1, 0), V(0, 1, 0), INFINITY, 5.0, light, settings,
                                           context)
