@@ -106,7 +106,8 @@ class EveryBuiltinPacket : public ::testing::TestWithParam<std::string> {};
 // the last forward step (march-packet-relaxed-stale), a bisection that keeps the wrong half
 // (march-fixed-bisects-wrong-half), a secant root kept unchecked (march-packet-secant-unchecked), compaction that
 // leaves a lane's last forward f behind (march-packet-compaction-drops-prev-f), lanes marching the whole ray
-// whatever the clip (march-packet-clip-ignored).
+// whatever the clip (march-packet-clip-ignored), relaxed lanes whose unbounding spheres ignore L on the L > 1
+// built-ins (march-packet-relaxed-radius-unscaled).
 TEST_P(EveryBuiltinPacket, SameOutcomesStepsEvaluationsNormalsAndShadowsAsOneRayAtATime) {
   for (const std::string marcher : {"own", "relaxed", "fixed", "secant", "relaxed+secant", "clip"}) {
     sdf::Scene scene = sdf::builtin_scene(GetParam());

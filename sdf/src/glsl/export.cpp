@@ -768,9 +768,11 @@ std::string marcher_code(const Scene& s) {
         << "    if (t > maxDist) { r.t = t; r.outcome = 1; return r; }\n  }\n  r.t = t;\n  return r;\n}\n";
     return out.str();
   }
+  const double lipschitz = derive_info(s.root, s.time).lipschitz;
   out << "  float t = 0.0, omega = " << literal(m.marcher == Marcher::relaxed ? float(m.relaxation) : 1.0f)
-      << ", prevT = 0.0, prevF = 0.0, prevStep = 0.0;\n  const float scale = " << literal(float(step_per_unit_f(s)))
-      << ", radius = " << literal(float(1 / derive_info(s.root, s.time).lipschitz)) << ";  // radius: 1 / L\n"
+      << ", prevT = 0.0, prevF = 0.0, prevStep = 0.0;\n  const float scale = "
+      << literal(float(step_per_unit_f(m, lipschitz))) << ", radius = " << literal(float(1 / lipschitz))
+      << ";  // radius: 1 / L\n"
       << "  while (r.steps < MAX_STEPS) {\n    float v = probe(r, ro, rd, t, side), eps = hitEps(t);\n"
       << "    if (isnan(v) || isinf(v)) { r.outcome = 4; return r; }\n"
       << "    if (r.steps == 1 && v < -eps) { r.outcome = 3; return r; }\n"
