@@ -162,8 +162,7 @@ void register_march(const sdf::Scene& scene) {
   using marchcheck::march::RayRecord;
   const auto tape = std::make_shared<const sdf::Tape>(sdf::compile(scene));
   const marchcheck::march::Camera camera(scene.camera, 160, 90);
-  const sdf::FieldInfo info = sdf::derive_info(scene.root, scene.time);
-  const marchcheck::march::MarchContext context = marchcheck::march::march_context(camera, info.lipschitz, info.bounds);
+  const marchcheck::march::MarchContext context = marchcheck::march::march_context(camera, scene);
   auto rays = std::make_shared<std::vector<PacketRay<float>>>();
   for (int y = 0; y < 90; ++y)
     for (int x = 0; x < 160; ++x) {

@@ -79,7 +79,7 @@ inline bool settle(Lanes<T>& l, int i, Int<T>& code, T v, T t, T a, Int<T> steps
 // number). Every lane loads and computes every outcome, then selects (`&`, not `&&`): a load or an addition made
 // conditional does not vectorise. Returns the number of lanes still running.
 template <bool First, bool Relaxed, bool Secant, class T>
-int feed_lanes(Lanes<T>& l, int count, int step, T scale, T radius, T eps_at_0, T eps_slope, int max_steps) {
+int feed_lanes(Lanes<T>& l, int count, int step, const StepRule<T> rule, T eps_at_0, T eps_slope, int max_steps) {
   using I = Int<T>;
   const T largest = std::numeric_limits<T>::max();
   const I running = kRunning, miss_far = I(Outcome::miss_far), hit = I(Outcome::hit), inside = I(Outcome::inside),
@@ -90,7 +90,7 @@ int feed_lanes(Lanes<T>& l, int count, int step, T scale, T radius, T eps_at_0, 
     const T v = l.f[i], t = l.t[i], a = std::abs(v);
     const T eps = eps_at_0 + eps_slope * t;  // hit_threshold: each mode is a + b t with an exact zero term
     bool back = false;
-    T forward_step = v * scale, next = t + forward_step;
+    T forward_step = rule.step(v, T(1)), next = t + forward_step;
     T prev_t = 0, prev_f = 0, omega = 1;
     if constexpr (Relaxed || Secant) {
       prev_t = l.prev_t[i];
@@ -98,18 +98,19 @@ int feed_lanes(Lanes<T>& l, int count, int step, T scale, T radius, T eps_at_0, 
     }
     if constexpr (Relaxed) {
       // Where the two unbounding spheres do not overlap, back to the last forward step's start, then omega 1.
-      // The last step's length, SphereTrace's prev_step, is prev_f * omega * scale bit for bit: a forward step
-      // is v * omega * scale with omega unchanged, a step back prev_f * scale with omega 1 from then on.
+      // The last step's length, SphereTrace's prev_step, is rule.step(prev_f, omega) bit for bit: a forward step
+      // is rule.step(v, omega) with omega unchanged, a step back rule.step(prev_f, 1) with omega 1 from then on.
       omega = l.omega[i];
-      const T reach = (a + prev_f) * radius, prev_step = prev_f * omega * scale, back_to = prev_t + prev_f * scale;
+      const T reach = rule.radii(a, prev_f), prev_step = rule.step(prev_f, omega),
+              back_to = prev_t + rule.step(prev_f, T(1));
       back = (omega > T(1)) & (reach < prev_step);
-      forward_step = v * omega * scale;
+      forward_step = rule.step(v, omega);
       const T ahead = t + forward_step;
       next = back ? back_to : ahead;
     }
     // As SphereTrace: past max_dist where a plain step passes it too (an over-relaxed one may yet step back).
     // One select per condition: the three combined in one condition kept GCC from vectorising the loop.
-    const T plain_reach = t + v * scale;
+    const T plain_reach = t + rule.step(v, T(1));
     const T md = l.max_dist[i];
     I code = out_of_steps;
     code = next > md ? miss_far : code;
@@ -265,8 +266,7 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
     l.max_dist[i] = span.t1;
     l.id[i] = ids[i];
   }
-  const SphereTrace<T> trace(s, c, T(0), T(0));
-  const T scale = trace.scale(), radius = trace.radius();
+  const StepRule<T> rule(s, c);
   const T eps_at_0 = s.eps_mode == EpsMode::absolute ? T(s.hit_eps)
                      : s.eps_mode == EpsMode::pixel  ? T(c.footprint_at_0)
                                                      : T(0);
@@ -278,7 +278,7 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
     if constexpr (R == Rule::fixed)
       return feed_fixed_lanes<First>(l, count, step, T(s.fixed_step), eps_at_0, eps_slope, s.max_steps);
     else
-      return feed_lanes<First, R == Rule::relaxed, Secant>(l, count, step, scale, radius, eps_at_0, eps_slope, s.max_steps);
+      return feed_lanes<First, R == Rule::relaxed, Secant>(l, count, step, rule, eps_at_0, eps_slope, s.max_steps);
   };
   int count = n;
   for (int step = 1; count > 0; ++step) {

@@ -47,8 +47,12 @@ bool settings_invalid(const MarchSettings& s, const MarchContext& c) {
   const bool lipschitz_ok = s.marcher != Marcher::scaled || (c.lipschitz > 0 && std::isfinite(c.lipschitz));
   const bool relax_ok = s.marcher != Marcher::relaxed || sdf::relaxation_valid(s.relaxation);
   const bool fixed_ok = s.marcher != Marcher::fixed || (s.fixed_step > 0 && std::isfinite(s.fixed_step));
+  const sdf::Perturbation& p = c.perturbation;
+  const bool perturbation_ok = sdf::stepped_perturbation(s, p.width) == INFINITY ||
+                               (p.lipschitz > 0 && std::isfinite(p.lipschitz) && p.width >= 0);
   const bool eps_ok = s.hit_eps >= 0 && std::isfinite(s.hit_eps) && c.footprint_at_0 >= 0 && c.footprint_slope >= 0;
-  return !(s.max_steps >= 0 && s.max_dist > 0 && scale_ok && lipschitz_ok && relax_ok && fixed_ok && eps_ok);
+  return !(s.max_steps >= 0 && s.max_dist > 0 && scale_ok && lipschitz_ok && perturbation_ok && relax_ok && fixed_ok &&
+           eps_ok);
 }
 
 std::vector<Aov> parse_aovs(const std::string& list) {
@@ -821,8 +825,7 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const
   const glm::dvec3 origin = march_origin(scene);
   Context ctx{scene,   origin, march_tape(scene, origin), Camera(scene.camera, w, h), {}, plan(scene, aovs, oracle),
               nullptr, oracle, {},     shade};
-  const sdf::FieldInfo info = sdf::derive_info(scene.root, scene.time);
-  ctx.march = march_context(ctx.camera, info.lipschitz, info.bounds, origin);
+  ctx.march = march_context(ctx.camera, scene, origin);
   for (const auto& light : scene.lights) ctx.light_positions.push_back(light.position_at(scene.time) - origin);
   if (ctx.pipeline.textures) {
     soil_texture_path();  // made once, before the tiles look it up in parallel

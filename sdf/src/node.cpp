@@ -135,6 +135,17 @@ FieldInfo derive_info(const Node& node, double time) {
   return ops::rules(node.op).derive(node, children, time);
 }
 
+std::vector<Box3> bounding_boxes(const Node& node, double time, size_t max_boxes) {
+  const Box3 hull = derive_info(node, time).bounds;
+  if (node.op != Op::union_) return {hull};
+  std::vector<Box3> boxes;
+  for (const auto& child : node.children) {
+    const std::vector<Box3> own = bounding_boxes(child, time, max_boxes);
+    boxes.insert(boxes.end(), own.begin(), own.end());
+  }
+  return boxes.size() <= max_boxes ? boxes : std::vector<Box3>{hull};
+}
+
 Node example(Op op) {
   const ops::OpRules& r = ops::rules(op);
   Node n = make(op, r.example);

@@ -35,6 +35,7 @@ constexpr EnumName<Marcher> kMarchers[] = {
     {Marcher::sphere, "sphere"}, {Marcher::relaxed, "relaxed"}, {Marcher::fixed, "fixed"}, {Marcher::scaled, "scaled"}};
 constexpr EnumName<HitRefine> kHitRefines[] = {{HitRefine::none, "none"}, {HitRefine::secant, "secant"}};
 constexpr EnumName<Clip> kClips[] = {{Clip::none, "none"}, {Clip::bounds, "bounds"}};
+constexpr EnumName<StepBound> kStepBounds[] = {{StepBound::lipschitz, "lipschitz"}, {StepBound::perturbed, "perturbed"}};
 constexpr EnumName<EpsMode> kEpsModes[] = {
     {EpsMode::absolute, "absolute"}, {EpsMode::relative, "relative"}, {EpsMode::pixel, "pixel"}};
 constexpr EnumName<NormalMethod> kNormals[] = {{NormalMethod::central, "central"},
@@ -242,6 +243,7 @@ const std::vector<Field<Scene>>& settings() {
       enum_field<Scene>("eps_mode", kEpsModes, MEMBER(Scene, march.eps_mode)),
       enum_field<Scene>("refine", kHitRefines, MEMBER(Scene, march.refine)),
       enum_field<Scene>("clip", kClips, MEMBER(Scene, march.clip)),
+      enum_field<Scene>("step_bound", kStepBounds, MEMBER(Scene, march.step_bound)),
       number_field<Scene>("step_scale", MEMBER(Scene, march.step_scale), 1e-6, 2),
       number_field<Scene>("relaxation", MEMBER(Scene, march.relaxation), kRelaxationMin, kRelaxationMax, false, true),
       number_field<Scene>("fixed_step", MEMBER(Scene, march.fixed_step), 1e-9, 1e6),

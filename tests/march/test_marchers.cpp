@@ -6,8 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 namespace marchcheck::march {
 namespace {
@@ -144,8 +146,7 @@ TEST_P(EveryMarcher, ClippedToTheBoundsARayMarchesOnlyWhereItCrossesTheBox) {
   MarchSettings clipped = whole;
   clipped.clip = sdf::Clip::bounds;
   MarchContext c;
-  c.bounds_lo = V(-1);
-  c.bounds_hi = V(1);
+  c.clip_boxes[0] = {V(-1), V(1)};
   const auto outside = march<double>(kSphere, V(0, 1.5, -5), V(0, 0, 1), clipped, c);
   EXPECT_EQ(outside.outcome, Outcome::miss_far);
   EXPECT_EQ(outside.evals, 0);
@@ -165,6 +166,82 @@ TEST_P(EveryMarcher, ClippedToTheBoundsARayMarchesOnlyWhereItCrossesTheBox) {
 // The relaxed marcher's first step toward a plane at 37 degrees (surface at t = 12.5 from f = 10) goes to t = 16,
 // past max_dist 13; a plain step would reach 10, so the ray is not ended there but stepped back, and hits.
 // Broken variant: a miss decided on the over-relaxed step (march-relaxed-miss-on-relaxed-step).
+// clip=bounds on a sphere over a ground plane, y = -3: the boxes of the union's children (the sphere's, the half
+// space below the plane) rather than their hull (everything below y = 1). A ray down at 45 degrees beside the sphere
+// starts where it enters the ground's box, within the span's widening of the plane, and hits in at most 3
+// evaluations (the relaxed marcher steps past and back; the fixed one steps once and bisects to 1e-4: 8), where
+// from the hull's top (y = 1) it takes more; a ray through the sphere's box and on toward the
+// ground hits the sphere as the whole ray does. Broken variants: the hull alone (sdf-bounding-boxes-hull), the
+// span from the last box's entry (march-clip-boxes-last-entry: it starts past the sphere).
+TEST_P(EveryMarcher, ClippedToTheBoxesOfAUnionsChildren) {
+  const sdf::Node scene = sdf::unite({sdf::sphere(1), sdf::plane({0, 1, 0}, 3)});
+  const sdf::Tape tape = sdf::compile(scene);
+  const TapeField field{&tape};
+  const std::vector<sdf::Box3> boxes = sdf::bounding_boxes(scene, 0, MarchContext::kMaxClipBoxes);
+  ASSERT_EQ(boxes.size(), 2u);
+  MarchContext c;
+  c.clip_box_count = 2;
+  std::copy(boxes.begin(), boxes.end(), c.clip_boxes.begin());
+  MarchContext hull;
+  hull.clip_boxes[0] = sdf::derive_info(scene).bounds;
+  MarchSettings whole = settings(GetParam(), 2000);
+  MarchSettings clipped = whole;
+  clipped.clip = sdf::Clip::bounds;
+  const V down = glm::normalize(V(0, -1, 1));
+  const auto ground = march<double>(field, V(4, 2, -10), down, clipped, c);
+  ASSERT_EQ(ground.outcome, Outcome::hit);
+  EXPECT_NEAR(ground.t, 5 * std::sqrt(2.0), 2e-4 + whole.fixed_step);
+  EXPECT_LE(ground.evals, GetParam() == Marcher::fixed ? 8 : 3);
+  EXPECT_GT(march<double>(field, V(4, 2, -10), down, clipped, hull).evals, ground.evals);
+  const V toward = glm::normalize(V(0, -0.2, 1));
+  const auto sphere = march<double>(field, V(0, 0.5, -5), toward, clipped, c);
+  const auto sphere_whole = march<double>(field, V(0, 0.5, -5), toward, whole, c);
+  ASSERT_EQ(sphere_whole.outcome, Outcome::hit);
+  ASSERT_LT(sphere_whole.t, 6);  // the sphere, not the ground
+  EXPECT_EQ(sphere.outcome, Outcome::hit);
+  EXPECT_NEAR(sphere.t, sphere_whole.t, 2e-4 + whole.fixed_step);
+}
+
+// The perturbed step bound on a plane displaced by 0.1 sin(60x) sin(60y) sin(60z) (L = 7, a smooth part of L 1 and a
+// band 0.2 wide), rays straight down from y = 10 onto it: the scaled and relaxed marchers stepping by max(f / 7,
+// f - 0.2) hit where stepping by f / 7 does (within the hit threshold along the ray, both), with at least 5
+// evaluations fewer a ray: the crawl from y = 10 to the bumps at f / 7 (about 23 steps of 1 - 1/7, 13 relaxed of
+// 1 - 1.6/7) becomes one or two steps; near the bumps both step by f / 7. The check can fail: a band understated as 0 (steps of f on a field of slope 7) passes the surface on
+// some rays. Broken variants: the perturbed term dropped (march-perturbed-step-dropped: as many evaluations as f / 7),
+// the relaxed marcher's unbounding spheres summed past the band once rather than twice (march-perturbed-radii-once).
+TEST(PerturbedBound, StepsFarFromADisplacedSurfaceAndHitsWhereTheLipschitzBoundDoes) {
+  const sdf::Node bumpy = sdf::make(sdf::Op::displace, {{"amplitude", {0.1}}, {"frequency", {60}}}, {sdf::plane({0, 1, 0}, 0)});
+  const sdf::Tape tape = sdf::compile(bumpy);
+  const TapeField field{&tape};
+  const sdf::FieldInfo info = sdf::derive_info(bumpy);
+  ASSERT_NEAR(info.lipschitz, 7, 1e-12);
+  MarchContext c;
+  c.lipschitz = info.lipschitz;
+  c.perturbation = info.perturbation_or_plain();
+  ASSERT_NEAR(c.perturbation.width, 0.2, 1e-12);
+  MarchContext understated = c;
+  understated.perturbation.width = 0;
+  for (const Marcher m : {Marcher::scaled, Marcher::relaxed}) {
+    SCOPED_TRACE(m == Marcher::scaled ? "scaled" : "relaxed");
+    MarchSettings lipschitz = settings(m, 5000, 1e-4), perturbed = lipschitz;
+    perturbed.step_bound = sdf::StepBound::perturbed;
+    int lipschitz_evals = 0, perturbed_evals = 0, passed = 0;
+    for (int i = 0; i < 100; ++i) {
+      const V origin(0.0137 * i, 10, 0.0291 * i + 0.005);
+      const auto plain = march<double>(field, origin, V(0, -1, 0), lipschitz, c);
+      const auto fast = march<double>(field, origin, V(0, -1, 0), perturbed, c);
+      ASSERT_EQ(plain.outcome, Outcome::hit) << i;
+      ASSERT_EQ(fast.outcome, Outcome::hit) << i;
+      EXPECT_NEAR(fast.t, plain.t, 2e-4) << i;  // each within 1e-4 / (1 - 0.6) of the surface at worst
+      lipschitz_evals += plain.evals;
+      perturbed_evals += fast.evals;
+      passed += std::abs(march<double>(field, origin, V(0, -1, 0), perturbed, understated).t - plain.t) > 0.01;
+    }
+    EXPECT_LT(perturbed_evals, lipschitz_evals - 5 * 100);
+    EXPECT_GT(passed, 0) << "an understated band steps through the bumps";
+  }
+}
+
 TEST(RelaxedTracing, AnOverRelaxedStepPastMaxDistIsSteppedBackNotAMiss) {
   const sdf::Tape plane = sdf::compile(sdf::plane({0, 1, 0}, 0));
   const TapeField field{&plane};

@@ -36,8 +36,7 @@ Mismatches compare(const sdf::Scene& scene, const sdf::Tape& packet_tape, const 
   using V = glm::vec<3, T>;
   const int w = 256, h = 144;
   const Camera camera(scene.camera, w, h);
-  const sdf::FieldInfo info = sdf::derive_info(scene.root, scene.time);
-  const MarchContext c = march_context(camera, info.lipschitz, info.bounds);
+  const MarchContext c = march_context(camera, scene);
   const auto& s = scene.march;
   const TapeField field{&point_tape};
   std::vector<PacketRay<T>> rays;
@@ -107,10 +106,15 @@ class EveryBuiltinPacket : public ::testing::TestWithParam<std::string> {};
 // (march-fixed-bisects-wrong-half), a secant root kept unchecked (march-packet-secant-unchecked), compaction that
 // leaves a lane's last forward f behind (march-packet-compaction-drops-prev-f), lanes marching the whole ray
 // whatever the clip (march-packet-clip-ignored), relaxed lanes whose unbounding spheres ignore L on the L > 1
-// built-ins (march-packet-relaxed-radius-unscaled).
+// built-ins (march-packet-relaxed-radius-unscaled), relaxed lanes whose unbounding spheres ignore a declared
+// perturbation (march-packet-perturbed-radii-plain; on the fields that declare one, stepped by it).
 TEST_P(EveryBuiltinPacket, SameOutcomesStepsEvaluationsNormalsAndShadowsAsOneRayAtATime) {
-  for (const std::string marcher : {"own", "relaxed", "fixed", "secant", "relaxed+secant", "clip"}) {
+  for (const std::string marcher : {"own", "relaxed", "fixed", "secant", "relaxed+secant", "clip", "relaxed+perturbed"}) {
     sdf::Scene scene = sdf::builtin_scene(GetParam());
+    if (marcher.ends_with("perturbed")) {
+      if (!sdf::derive_info(scene.root, scene.time).perturbation) continue;
+      sdf::apply_setting(scene, "step_bound", "perturbed");
+    }
     if (marcher.ends_with("secant")) sdf::apply_setting(scene, "refine", "secant");
     if (marcher == "clip") sdf::apply_setting(scene, "clip", "bounds");
     if (marcher.starts_with("relaxed") || marcher == "fixed")

@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <numbers>
+#include <random>
 
 namespace marchcheck::sdf {
 namespace {
@@ -204,6 +206,84 @@ TEST(Deformations, DeclaredLipschitzBoundsHoldAndAreTight) {
   // The seed's numbers: displacement 0.1 sin(15x)... adds 1.5; the warp at t = 1 reaches 1 + 3.49.
   EXPECT_NEAR(derive_info(cases[0].node).lipschitz, 2.5, 1e-12);
   EXPECT_NEAR(derive_info(cases[2].node, 1.0).lipschitz, 1 + 20 * std::abs(std::sin(2.0)) * 0.2 * std::abs(std::sin(5.0)), 1e-12);
+}
+
+// The band a field needs beside its smooth part's Lipschitz bound: the largest |f(q) - f(p)| - lipschitz |q - p|
+// over random pairs in [lo, hi], q a random direction from p at distances from 1e-3 to 3.
+double measured_band(const Node& node, double lipschitz, glm::dvec3 lo, glm::dvec3 hi) {
+  const Tape tape = compile(node);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::normal_distribution<double> g;
+  double band = -INFINITY;
+  for (int i = 0; i < 200000; ++i) {
+    const glm::dvec3 p = lo + (hi - lo) * glm::dvec3(u(rng), u(rng), u(rng));
+    const glm::dvec3 q = p + glm::normalize(glm::dvec3(g(rng), g(rng), g(rng))) * (1e-3 * std::pow(3e3, u(rng)));
+    band = std::max(band, std::abs(evaluate(tape, q) - evaluate(tape, p)) - lipschitz * glm::length(q - p));
+  }
+  return band;
+}
+
+// A declared perturbation (a smooth part's Lipschitz bound and a band) holds by measurement and is not loose where the
+// perturbation is steep: pairs find at least half the band. Broken variants: a height field's band summing signed
+// amplitudes (sdf-heightfield-band-signed), a displacement adding its amplitude once (sdf-displace-band-once), a
+// union keeping the narrowest band (sdf-union-band-narrowest), a scale that keeps the band
+// (sdf-scale-band-unscaled), a stretch that keeps the smooth part's bound (sdf-affine-perturbation-unstretched).
+TEST(Perturbation, DeclaredBandsHoldAndAreTightWhereTheFieldIsSteep) {
+  const Node steep_terrain = make(Op::heightfield, {{"octaves", {0.3, 20, -0.1, 7}}});
+  const auto displaced = [](double a, double f, Node child) {
+    return make(Op::displace, {{"amplitude", {a}}, {"frequency", {f}}}, {std::move(child)});
+  };
+  struct Case {
+    const char* name;
+    Node node;
+    Perturbation declared;
+  };
+  const Case cases[] = {
+      {"steep height field", steep_terrain, {1, 0.4}},
+      {"steep displacement", displaced(0.1, 60, sphere(0.8)), {1, 0.2}},
+      {"displaced height field", displaced(0.05, 40, steep_terrain), {1, 0.5}},
+      {"union with a sphere", unite({sphere(0.5), translate({0, -1, 0}, displaced(0.1, 60, sphere(0.8)))}), {1, 0.2}},
+      {"scaled by 2", make(Op::scale, {{"factor", {2}}}, {displaced(0.1, 60, sphere(0.8))}), {1, 0.4}},
+      {"squashed in x", make(Op::affine, {{"model", {0.5, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}}}, {displaced(0.1, 60, sphere(0.8))}),
+       {2, 0.2}},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    const FieldInfo info = derive_info(c.node);
+    ASSERT_TRUE(info.perturbation.has_value());
+    EXPECT_NEAR(info.perturbation->lipschitz, c.declared.lipschitz, 1e-12);
+    EXPECT_NEAR(info.perturbation->width, c.declared.width, 1e-12);
+    const double band = measured_band(c.node, info.perturbation->lipschitz, glm::dvec3(-2), glm::dvec3(2));
+    EXPECT_LE(band, info.perturbation->width + 1e-12);
+    EXPECT_GT(band, 0.5 * info.perturbation->width);
+  }
+}
+
+// Fields without a perturbation declare none: exact shapes and their unions, and a repetition, whose copy in the
+// next cell is no perturbation of the own one. Broken variant: repetition keeping its child's band
+// (sdf-repeat-keeps-perturbation).
+TEST(Perturbation, DeclaredOnlyWhereThereIsOne) {
+  EXPECT_FALSE(derive_info(unite({kA, kB})).perturbation.has_value());
+  const Node displaced_box = make(Op::displace, {{"amplitude", {0.1}}, {"frequency", {15}}}, {box({1, 1, 1})});
+  EXPECT_TRUE(derive_info(displaced_box).perturbation.has_value());
+  EXPECT_FALSE(derive_info(make(Op::repeat, {{"period", {4, 4, 4}}}, {displaced_box})).perturbation.has_value());
+  EXPECT_FALSE(derive_info(make(Op::heightfield, {{"octaves", {0.5, 0}}})).perturbation.has_value()) << "a plane";
+}
+
+// A union's boxes are its children's, nested unions' in turn; anything else, or more boxes than asked for, gives the
+// derived bounds alone. Broken variant: the hull alone (sdf-bounding-boxes-hull).
+TEST(BoundingBoxes, AUnionsAreItsChildrensWhileTheyAreFew) {
+  const Node nested = unite({kA, unite({kB, translate({3, 0, 0}, sphere(0.5))})});
+  const std::vector<Box3> boxes = bounding_boxes(nested, 0, 4);
+  ASSERT_EQ(boxes.size(), 3u);
+  EXPECT_EQ(boxes[0].lo, derive_info(kA).bounds.lo);
+  EXPECT_EQ(boxes[1].hi, derive_info(kB).bounds.hi);
+  EXPECT_EQ(boxes[2].lo, glm::dvec3(2.5, -0.5, -0.5));
+  const std::vector<Box3> few = bounding_boxes(nested, 0, 2);
+  ASSERT_EQ(few.size(), 1u);
+  EXPECT_EQ(few[0].hi, derive_info(nested).bounds.hi);
+  EXPECT_EQ(bounding_boxes(kA, 0, 4).size(), 1u);
 }
 
 // The displacement's value against its closed form, a sin(f x) sin(f y) sin(f z) on top of the child, at a point

@@ -382,6 +382,9 @@ TEST(Settings, TextReadBackAppliesToTheSameValue) {
   apply_setting(scene, "refine", "secant");
   apply_setting(scene, "clip", "bounds");
   EXPECT_EQ(setting_text(scene, "clip"), "bounds");
+  apply_setting(scene, "step_bound", "perturbed");
+  EXPECT_EQ(scene.march.step_bound, StepBound::perturbed);
+  EXPECT_EQ(setting_text(scene, "step_bound"), "perturbed");
   EXPECT_EQ(setting_text(scene, "hit_eps"), "0.0123456789012345");
   EXPECT_EQ(setting_text(scene, "refine"), "secant");
   EXPECT_EQ(setting_text(scene, "max_steps"), "200");
@@ -401,6 +404,7 @@ TEST(Settings, BadValuesNameTheKeyTheValueAndWhatWasExpected) {
   EXPECT_EQ(setting_error("max_steps", "1e9"), "max_steps=1e9: value 1e+09 is out of range [0, 1.67772e+07]");
   EXPECT_EQ(setting_error("marcher", "3"), "marcher=3: expected one of sphere, relaxed, fixed, scaled");
   EXPECT_EQ(setting_error("clip", "box"), "clip=box: 'box' is not one of none, bounds");
+  EXPECT_EQ(setting_error("step_bound", "local"), "step_bound=local: 'local' is not one of lipschitz, perturbed");
   EXPECT_EQ(setting_error("camera.target", "0,1"), "camera.target=0,1: expected an array of 3 numbers");
   EXPECT_EQ(setting_error("max_dist", "-inf"), "max_dist=-inf: value -inf is out of range [0, inf]");
   EXPECT_EQ(setting_error("max_dist", "inf"), "(no error)");  // the broken-variant guard: good values pass

@@ -171,7 +171,7 @@ void choose_beaten(SeedBeaten& beaten) {
   }
 }
 
-SeedBeaten beat_the_seed(const sdf::Scene& scene, const SweepOptions& options) {
+std::vector<SweepAxis> seed_levers(const sdf::Scene& scene) {
   // The first value of every axis is the scene's own, read back exactly.
   const auto own = [&](const char* key) { return SweepAxis{key, {sdf::setting_text(scene, key)}}; };
   const auto add = [](SweepAxis axis, const std::string& other) {
@@ -187,7 +187,14 @@ SeedBeaten beat_the_seed(const sdf::Scene& scene, const SweepOptions& options) {
   }
   const SweepAxis marchers = add(own("marcher"), "relaxed"), refine = add(add(own("refine"), "none"), "secant");
   const SweepAxis clip = add(own("clip"), "bounds");
-  SeedBeaten beaten{scene.name, sweep(scene, {marchers, refine, eps, clip}, options), {}, {}};
+  std::vector<SweepAxis> axes{marchers, refine, eps, clip};
+  // The perturbed bound changes nothing on a field that declares no perturbation.
+  if (sdf::derive_info(scene.root, scene.time).perturbation) axes.push_back(add(own("step_bound"), "perturbed"));
+  return axes;
+}
+
+SeedBeaten beat_the_seed(const sdf::Scene& scene, const SweepOptions& options) {
+  SeedBeaten beaten{scene.name, sweep(scene, seed_levers(scene), options), {}, {}};
   choose_beaten(beaten);
   return beaten;
 }

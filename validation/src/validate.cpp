@@ -99,9 +99,8 @@ Subject subject_in(const sdf::Scene& scene) {
   // Points and ray origins come in world coordinates; the march measures them from origin (in double).
   const dvec3 origin = march::march_origin(scene);
   const auto tape = std::make_shared<const sdf::Tape>(march::march_tape(scene, origin));
-  const sdf::FieldInfo info = sdf::derive_info(scene.root, scene.time);
   const auto ctx = std::make_shared<const march::MarchContext>(
-      march::march_context(march::Camera(scene.camera, scene.width, scene.height), info.lipschitz, info.bounds, origin));
+      march::march_context(march::Camera(scene.camera, scene.width, scene.height), scene, origin));
   const march::TapeField field{tape.get()};
   const sdf::MarchSettings settings = scene.march;
   Subject s;
@@ -125,7 +124,7 @@ Subject subject_in(const sdf::Scene& scene) {
                                                            static_cast<T>(t), light, settings, *ctx)
                                    .visibility);
   };
-  s.declared = info;
+  s.declared = sdf::derive_info(scene.root, scene.time);
   s.exact_outside = is_exact_outside(scene.root, scene.time);
   s.unit_roundoff = std::numeric_limits<T>::epsilon();
   // A hit refined by a secant step lands on the surface to O(eps^2), on either side of it.

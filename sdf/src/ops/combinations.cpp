@@ -12,20 +12,28 @@ enum class Bounds { hull, overlap, first };
 
 // min/max-like operators keep 1-Lipschitz fields 1-Lipschitz with the combined zero set, so exact and bound
 // children give a bound; a child with only a Lipschitz bound gives only that. The smooth forms, smin = w a +
-// (1 - w) b with w in [0,1] along the blend, are still max(L)-Lipschitz.
+// (1 - w) b with w in [0,1] along the blend, are still max(L)-Lipschitz. Each is monotone in every child and moves
+// by c where all children do, so children within lipschitz |q - p| + width of themselves give a field within the
+// largest of each: a perturbation is kept where any child declares one.
 FieldInfo combined(const Node& n, std::span<const FieldInfo> cs, Bounds bounds) {
   FieldInfo out;
   out.kind = Kind::bound;
   out.lipschitz = 0;
   out.bounds = cs.front().bounds;
+  Perturbation perturbation{0, 0};
+  bool declared = false;
   for (const auto& c : cs) {
     out.kind = weaker(out.kind, c.kind);
     out.lipschitz = std::max(out.lipschitz, c.lipschitz);
+    const Perturbation p = c.perturbation_or_plain();
+    perturbation = {std::max(perturbation.lipschitz, p.lipschitz), std::max(perturbation.width, p.width)};
+    declared = declared || c.perturbation;
     if (bounds == Bounds::hull)
       out.bounds = {glm::min(out.bounds.lo, c.bounds.lo), glm::max(out.bounds.hi, c.bounds.hi)};
     if (bounds == Bounds::overlap)
       out.bounds = {glm::max(out.bounds.lo, c.bounds.lo), glm::min(out.bounds.hi, c.bounds.hi)};
   }
+  if (declared) out.perturbation = perturbation;
   const std::string what(op_info(n.op).name);
   out.reason = out.kind >= Kind::lipschitz
                    ? what + " of an " + std::string(to_string(out.kind)) + " field"

@@ -34,6 +34,7 @@ FieldInfo derive_placed(const Node& n, std::span<const FieldInfo> cs, double tim
   FieldInfo out = like_child(cs[0], transform_box(cs[0].bounds, a, t), "rigid motion keeps the kind");
   if (std::abs(stretch - 1) > 1e-9 || std::abs(spectral_norm(a) - 1) > 1e-9) {
     out.lipschitz = cs[0].lipschitz * stretch;
+    if (out.perturbation) out.perturbation->lipschitz *= stretch;
     if (stretch <= 1 && cs[0].kind <= Kind::bound) {
       out.kind = Kind::bound;
       out.reason = "affine map that does not stretch: a bound";
@@ -70,6 +71,7 @@ FieldInfo derive_repeated(const Node& n, std::span<const FieldInfo> cs, double) 
                         child.bounds.hi[i] <= c[i] / 2 + 1e-12 &&
                         std::abs(child.bounds.lo[i] + child.bounds.hi[i]) <= 1e-12 * c[i];
   FieldInfo out = child;
+  out.perturbation.reset();  // a copy in the next cell is no perturbation of the own one
   if (centred_in_cell) {
     out.kind = weaker(child.kind, Kind::bound);
     out.reason = "repetition of a shape centred in its cell: a bound when the shape is symmetric in its cell";
@@ -118,8 +120,10 @@ std::vector<OpRules> domain_rules() {
       {{Op::scale, "scale", 3, 1, 1, 3, {P{"factor", 1, {}, kPositive}}, "uniform scale: f(p / s) * s"},
        [](const Node& n, std::span<const FieldInfo> cs, double) {
          const double s = n.scalar("factor");
-         return like_child(cs[0], Box3{cs[0].bounds.lo * s, cs[0].bounds.hi * s},
-                           "uniform scale f(p/s) s keeps the kind");
+         FieldInfo out = like_child(cs[0], Box3{cs[0].bounds.lo * s, cs[0].bounds.hi * s},
+                                    "uniform scale f(p/s) s keeps the kind");
+         if (out.perturbation) out.perturbation->width *= s;  // values scale by s, slopes stay
+         return out;
        },
        [](Compiler& c, const Node& n) {
          const double s = n.scalar("factor");

@@ -52,8 +52,12 @@ std::vector<OpRules> modifier_rules() {
        [](const Node& n, std::span<const FieldInfo> cs, double) {
          // |grad(a sin x sin y sin z)|^2 = a^2 w^2 (c1^2 s2^2 s3^2 + ...) <= a^2 w^2.
          const double a = std::abs(n.scalar("amplitude")), w = n.scalar("frequency");
-         return FieldInfo{weaker(cs[0].kind, Kind::lipschitz), cs[0].lipschitz + a * w, expand(cs[0].bounds, a),
-                          "displacement adds amplitude * frequency to the Lipschitz bound"};
+         FieldInfo out{weaker(cs[0].kind, Kind::lipschitz), cs[0].lipschitz + a * w, expand(cs[0].bounds, a),
+                       "displacement adds amplitude * frequency to the Lipschitz bound"};
+         // The child plus a term within [-a, a]: the child's band grows by 2a, its smooth part stays.
+         const Perturbation child = cs[0].perturbation_or_plain();
+         out.perturbation = Perturbation{child.lipschitz, child.width + 2 * a};
+         return out;
        },
        [](Compiler& c, const Node& n) { c.modify(TapeOp::displace, n, c.constants(n.params)); },
        {{"amplitude", {0.08}}, {"frequency", {6}}}},

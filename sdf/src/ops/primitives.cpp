@@ -151,15 +151,18 @@ std::vector<OpRules> field_rules() {
         "the march's arithmetic"},
        [](const Node& n, auto, double) {
          // Smoothstep-interpolated bilinear noise in [0,1]: each partial derivative is at most 1.5 * frequency.
-         double slope = 0, top = 0;
+         double slope = 0, top = 0, band = 0;
          const auto octaves = n.param("octaves");
          for (size_t i = 0; i + 1 < octaves.size(); i += 2) {
            slope += 1.5 * std::sqrt(2.0) * std::abs(octaves[i]) * std::abs(octaves[i + 1]);
            top += std::max(octaves[i], 0.0);
+           band += std::abs(octaves[i]);
          }
          FieldInfo out{Kind::lipschitz, std::sqrt(1 + slope * slope),
                        Box3{{-INFINITY, -INFINITY, -INFINITY}, {INFINITY, top, INFINITY}},
                        "height field: vertical distance, overestimates by up to sqrt(1 + slope^2)"};
+         // p.y (1-Lipschitz) less a height within [sum of negative amplitudes, top]: a band sum |amplitude| wide.
+         out.perturbation = Perturbation{1, band};
          if (slope == 0) out = {Kind::exact, 1, out.bounds, "flat height field: a plane"};
          return out;
        },

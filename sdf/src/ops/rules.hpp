@@ -79,7 +79,8 @@ inline Box3 symmetric_box(glm::dvec3 half) { return {-half, half}; }
 inline Box3 expand(Box3 b, double r) { return {b.lo - r, b.hi + r}; }
 Box3 transform_box(const Box3& b, const glm::dmat3& a, glm::dvec3 t);  // the image of b under x -> A x + t
 inline Kind weaker(Kind a, Kind b) { return std::max(a, b); }
-// The child's info with new bounds and reason.
+// The child's info with new bounds and reason; its perturbation too, which motions, offsets and shells (|f| - t)
+// keep: they move f(q) - f(p) by no more than |q - p| does.
 FieldInfo like_child(const FieldInfo& child, Box3 bounds, const char* reason);
 
 inline constexpr double kPositive = 1e-12;  // the least value of parameters that must be positive

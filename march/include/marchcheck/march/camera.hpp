@@ -50,17 +50,25 @@ class Camera {
   double fx_, fy_, cx_, cy_;
 };
 
-// What a march through this camera needs beyond its settings: the pixel footprint (eps_mode pixel), the field's
-// declared Lipschitz bound (the scaled marcher) and the box its zero set and inside lie in (clip=bounds), measured
-// from origin as the march measures its points (march_origin).
-inline MarchContext march_context(const Camera& camera, double lipschitz = 1, const sdf::Box3& bounds = {},
-                                  glm::dvec3 origin = glm::dvec3(0)) {
+// What a march through this camera needs beyond its settings: the pixel footprint (eps_mode pixel) and the field's
+// declared Lipschitz bound (the marchers that honour L).
+inline MarchContext march_context(const Camera& camera, double lipschitz = 1) {
   MarchContext c;
   c.lipschitz = lipschitz;
   c.footprint_at_0 = camera.footprint_at_0();
   c.footprint_slope = camera.footprint_slope();
-  c.bounds_lo = bounds.lo - origin;
-  c.bounds_hi = bounds.hi - origin;
+  return c;
+}
+
+// The same for a scene's field: also its perturbation (StepBound::perturbed) and the boxes its zero set and inside
+// lie in (clip=bounds), measured from origin as the march measures its points (march_origin).
+inline MarchContext march_context(const Camera& camera, const sdf::Scene& scene, glm::dvec3 origin = glm::dvec3(0)) {
+  const sdf::FieldInfo field = sdf::derive_info(scene.root, scene.time);
+  MarchContext c = march_context(camera, field.lipschitz);
+  c.perturbation = field.perturbation_or_plain();
+  const std::vector<sdf::Box3> boxes = sdf::bounding_boxes(scene.root, scene.time, MarchContext::kMaxClipBoxes);
+  c.clip_box_count = static_cast<int>(boxes.size());
+  for (size_t i = 0; i < boxes.size(); ++i) c.clip_boxes[i] = {boxes[i].lo - origin, boxes[i].hi - origin};
   return c;
 }
 

@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -58,8 +59,13 @@ struct MarchContext {
   double lipschitz = 1;
   double footprint_at_0 = 0;
   double footprint_slope = 0;
-  // Clip::bounds: the box the field's zero set and inside lie in, in the march's coordinates (infinite: unknown).
-  glm::dvec3 bounds_lo{-INFINITY}, bounds_hi{INFINITY};
+  // The field's (sdf::FieldInfo::perturbation_or_plain), for StepBound::perturbed; an infinite band: none.
+  sdf::Perturbation perturbation{1, INFINITY};
+  // Clip::bounds: boxes whose union holds the field's zero set and inside (sdf::bounding_boxes), in the march's
+  // coordinates; one infinite box where unknown.
+  static constexpr size_t kMaxClipBoxes = 4;
+  std::array<sdf::Box3, kMaxClipBoxes> clip_boxes{};
+  int clip_box_count = 1;
 };
 
 // The hit threshold at distance t.
@@ -79,6 +85,32 @@ inline T step_per_unit_f(const MarchSettings& s, const MarchContext& c) {
   return T(sdf::step_per_unit_f(s, c.lipschitz));
 }
 
+// How far a sphere-traced step goes from a point where the field is v, and how far from it no surface can be (an
+// unbounding sphere's radius), in T: v per unit each, or on a field stepped by its perturbed bound (v - width) per
+// the smooth part's unit where that is longer. Without it width is +inf: (v - inf) * k = -inf never wins, so the
+// plain expressions' bits are kept.
+template <class T>
+struct StepRule {
+  T scale = 1, radius = 1;  // per unit of f: a step (sdf::step_per_unit_f), an unbounding radius (1 / L)
+  T width = std::numeric_limits<T>::infinity(), smooth_scale = 1, smooth_radius = 1;
+
+  StepRule() = default;
+  StepRule(const MarchSettings& s, const MarchContext& c)
+      : scale(step_per_unit_f<T>(s, c)),
+        radius(T(1 / c.lipschitz)),
+        width(T(sdf::stepped_perturbation(s, c.perturbation.width))),
+        smooth_scale(T(sdf::step_per_unit_f(s, c.perturbation.lipschitz))),
+        smooth_radius(T(1 / c.perturbation.lipschitz)) {}
+  // A step of omega times the bound (omega 1: a plain step).
+  T step(T v, T omega) const { return longer(v * omega * scale, (v - width) * omega * smooth_scale); }
+  // The radii of the unbounding spheres at two points where |f| is a and b, summed (perturbed: a lower bound of
+  // the sum, each radius's longer term taken alike).
+  T radii(T a, T b) const { return longer((a + b) * radius, (a + b - 2 * width) * smooth_radius); }
+
+ private:
+  static T longer(T plain, T perturbed) { return plain < perturbed ? perturbed : plain; }  // NaN: plain
+};
+
 // The root of the line through the samples (prev_t, prev_f) and (t, v): a Newton step on f(o + t d) = 0 with the
 // derivative along the ray taken between them (HitRefine::secant). Only where they approach the surface
 // (prev_f > v); else t (NaN compares false: t).
@@ -88,11 +120,11 @@ inline T secant_root(T prev_t, T prev_f, T t, T v) {
   return df > 0 && dt > 0 && std::isfinite(root) ? root : t;
 }
 
-// The part [t0, t1] of [t_start, max_dist] a ray marches (MarchSettings::clip): all of it, or only where it crosses
-// the box (c.bounds_lo, c.bounds_hi), found in double and widened by the hit threshold and 1e-5 (1 + t) so that
-// neither the march's rounding nor a hit reached before the surface falls outside (and its end by fixed_step for
-// the fixed marcher, whose step past the box's far side still finds a surface just inside it); t0 > t1 where the
-// ray misses the box. A finite, non-degenerate ray.
+// The part [t0, t1] of [t_start, max_dist] a ray marches (MarchSettings::clip): all of it, or only from where it
+// first enters one of the boxes c.clip_boxes to where it last leaves one, found in double and widened by the hit
+// threshold and 1e-5 (1 + t) so that neither the march's rounding nor a hit reached before the surface falls outside
+// (and its end by fixed_step for the fixed marcher, whose step past a box's far side still finds a surface just
+// inside it); t0 > t1 where the ray misses every box. A finite, non-degenerate ray.
 template <class T>
 struct Span {
   T t0, t1;
@@ -103,24 +135,33 @@ template <class T>
 Span<T> clip_span(const MarchSettings& s, const MarchContext& c, glm::vec<3, T> origin, glm::vec<3, T> direction,
                   T t_start, T max_dist) {
   if (s.clip == sdf::Clip::none) return {t_start, max_dist};
-  double t0 = -INFINITY, t1 = INFINITY;
-  for (int k = 0; k < 3; ++k) {
-    const double o = origin[k], d = direction[k], lo = c.bounds_lo[k], hi = c.bounds_hi[k];
-    if (d == 0) {
-      if (!(o >= lo && o <= hi)) return {t_start, std::numeric_limits<T>::lowest()};
-      continue;
-    }
-    const double a = (lo - o) / d, b = (hi - o) / d;
-    t0 = std::max(t0, std::min(a, b));
-    t1 = std::min(t1, std::max(a, b));
-  }
   const auto pad = [&](double t) {
     return static_cast<double>(hit_threshold<double>(s, c, std::abs(t))) + 1e-5 * (1 + std::abs(t));
   };
-  t0 = std::max(static_cast<double>(t_start), t0 - pad(t0));
-  t1 = std::min(static_cast<double>(max_dist), t1 + pad(t1) + (s.marcher == Marcher::fixed ? s.fixed_step : 0.0));
-  if (!(t0 <= t1)) return {t_start, std::numeric_limits<T>::lowest()};
-  return {static_cast<T>(t0), static_cast<T>(t1)};
+  double first = INFINITY, last = -INFINITY;
+  for (int i = 0; i < c.clip_box_count; ++i) {
+    const sdf::Box3& box = c.clip_boxes[i];
+    double t0 = -INFINITY, t1 = INFINITY;
+    bool beside = false;  // parallel to a slab, outside it: never in the box
+    for (int k = 0; k < 3; ++k) {
+      const double o = origin[k], d = direction[k], lo = box.lo[k], hi = box.hi[k];
+      if (d == 0) {
+        beside = beside || !(o >= lo && o <= hi);
+        continue;
+      }
+      const double a = (lo - o) / d, b = (hi - o) / d;
+      t0 = std::max(t0, std::min(a, b));
+      t1 = std::min(t1, std::max(a, b));
+    }
+    if (beside) continue;
+    t0 = std::max(static_cast<double>(t_start), t0 - pad(t0));
+    t1 = std::min(static_cast<double>(max_dist), t1 + pad(t1) + (s.marcher == Marcher::fixed ? s.fixed_step : 0.0));
+    if (!(t0 <= t1)) continue;
+    first = std::min(first, t0);
+    last = std::max(last, t1);
+  }
+  if (!(first <= last)) return {t_start, std::numeric_limits<T>::lowest()};
+  return {static_cast<T>(first), static_cast<T>(last)};
 }
 
 // True when the settings and context make no sense (NaN, negative, out of range): such rays are `invalid`.
@@ -174,7 +215,7 @@ inline bool ray_invalid(glm::vec<3, T> origin, glm::vec<3, T> direction, T t_sta
 
 // Sphere tracing; scaled: steps of f / L; relaxed: steps of omega * f / L, falling back to a plain step from the
 // previous point when the unbounding spheres of two consecutive points (radius f / L) do not overlap (Keinert et
-// al. 2014).
+// al. 2014); each bound by StepRule (on a perturbed field, the perturbed bound where longer).
 // Written as a state machine fed one field value at a time, so that march() and a packet of rays sharing
 // batched evaluations (packet.hpp) take exactly the same steps.
 template <class T>
@@ -185,18 +226,16 @@ class SphereTrace {
   SphereTrace(const MarchSettings& s, const MarchContext& c, T t_start, T max_dist)
       : s_(&s),
         c_(&c),
+        rule_(s, c),
         max_dist_(max_dist),
-        scale_(step_per_unit_f<T>(s, c)),
         omega_(s.marcher == Marcher::relaxed ? T(s.relaxation) : T(1)),
-        radius_(T(1 / c.lipschitz)),
         t_(t_start),
         prev_t_(t_start) {
     if (!(r_.steps < s.max_steps)) end(Outcome::miss_steps);
   }
   bool done() const { return done_; }
   T t() const { return t_; }  // where the field is wanted next
-  T scale() const { return scale_; }  // a step is f * omega * scale
-  T radius() const { return radius_; }  // an unbounding sphere's radius per unit of f: 1 / L
+  const StepRule<T>& rule() const { return rule_; }
   const RayRecord<T>& record() const { return r_; }
 
   // Takes the field's value at t(): records the step, then moves t or ends the record.
@@ -210,10 +249,10 @@ class SphereTrace {
     if (!std::isfinite(v)) return end(Outcome::invalid);
     const T eps = hit_threshold(*s_, *c_, t_);
     if (r_.steps == 1 && v < -eps) return end(Outcome::inside);
-    if (omega_ > T(1) && (std::abs(v) + prev_f_) * radius_ < prev_step_) {
+    if (omega_ > T(1) && rule_.radii(std::abs(v), prev_f_) < prev_step_) {
       omega_ = 1;
-      t_ = prev_t_ + prev_f_ * scale_;
-      prev_step_ = prev_f_ * scale_;
+      prev_step_ = rule_.step(prev_f_, T(1));
+      t_ = prev_t_ + prev_step_;
     } else {
       if (v < eps) {
         // HitRefine::secant: one evaluation more, at the secant's root, where a step is left for it.
@@ -227,10 +266,10 @@ class SphereTrace {
         t_ = root;
         return;
       }
-      const T step = v * omega_ * scale_;
+      const T step = rule_.step(v, omega_);
       // An over-relaxed step past max_dist may yet be stepped back: the ray ends only where a plain step passes
       // max_dist too (the same test for the other marchers).
-      const T plain_reach = t_ + v * scale_;
+      const T plain_reach = t_ + rule_.step(v, T(1));
       prev_t_ = t_;
       prev_f_ = v;
       prev_step_ = step;
@@ -248,7 +287,8 @@ class SphereTrace {
   }
   const MarchSettings* s_ = nullptr;
   const MarchContext* c_ = nullptr;
-  T max_dist_ = 0, scale_ = 1, omega_ = 1, radius_ = 1, t_ = 0, prev_t_ = 0, prev_f_ = 0, prev_step_ = 0;
+  StepRule<T> rule_;
+  T max_dist_ = 0, omega_ = 1, t_ = 0, prev_t_ = 0, prev_f_ = 0, prev_step_ = 0;
   T stopped_t_ = 0, stopped_abs_f_ = 0;  // where the march stopped, while its secant root is evaluated
   RayRecord<T> r_;
   bool done_ = false, refining_ = false;

@@ -4,9 +4,11 @@
 #include <glm/glm.hpp>
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace marchcheck::sdf {
@@ -147,12 +149,28 @@ struct Box3 {
   glm::dvec3 size() const { return hi - lo; }
 };
 
+// A field that is a smooth one plus a perturbation within a band `width` wide (a height field's noise, a
+// displacement): f(q) >= f(p) - lipschitz |q - p| - width for all p and q, where lipschitz bounds only the smooth
+// part. Far from the surface a march may step (f - width) / lipschitz, longer than f / L. Every field of Lipschitz
+// bound L is one with {L, 0}.
+struct Perturbation {
+  double lipschitz = 1;
+  double width = 0;
+};
+
 // What a field declares about itself, derived bottom-up from its tree.
 struct FieldInfo {
+  FieldInfo() = default;
+  FieldInfo(Kind k, double l, Box3 b, std::string why) : kind(k), lipschitz(l), bounds(b), reason(std::move(why)) {}
   Kind kind = Kind::exact;
   double lipschitz = 1.0;  // bound on |grad f|
   Box3 bounds;             // encloses the zero set (and f <= 0 region); infinite when unknown
   std::string reason;      // why the kind is what it is, for reports
+  // Declared by height fields and displacements; kept by the operators that keep the property (min/max and their
+  // smooth forms, motions, offsets, shells, mirrors); dropped by the rest.
+  std::optional<Perturbation> perturbation;
+  // The declared perturbation, else {L, 0}.
+  Perturbation perturbation_or_plain() const { return perturbation.value_or(Perturbation{lipschitz, 0}); }
 };
 
 glm::dmat3 rotation_matrix(glm::dvec3 axis, double angle_rad);
@@ -175,6 +193,10 @@ GridLayout grid_layout(const Node& grid, const Box3& child_bounds);
 
 // time feeds the animated operators (animate, warp).
 FieldInfo derive_info(const Node& node, double time = 0.0);
+// Boxes whose union holds the field's zero set and inside, at most max_boxes of them: a union's children's (in turn
+// their own), else the node's derived bounds; where there would be more, the hull of them all. Tighter than the
+// hull alone: a sphere over a ground leaves the air between them out.
+std::vector<Box3> bounding_boxes(const Node& node, double time, size_t max_boxes);
 
 // A valid instance of the operator, for documentation and for tests that run every operator: its example
 // parameters, and children when it takes them (a box off the origin, then a sphere; circles for 2D children).

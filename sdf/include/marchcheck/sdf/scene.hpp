@@ -27,6 +27,11 @@ enum class HitRefine { none, secant };
 // zero set and inside lie in (derive_info), so a ray that misses the box ends after no evaluation and one that
 // leaves it ends there (march::clip_span).
 enum class Clip { none, bounds };
+// What bounds a step of the marchers that honour L (scaled, relaxed). lipschitz: f / L. perturbed: on a field that
+// is a smooth one plus a perturbation within a band (FieldInfo::perturbation: a height field's noise, a
+// displacement), also (f - width) / the smooth part's L where that is longer: far from a displaced surface, steps
+// near f instead of f / L. Shadow rays keep f / L.
+enum class StepBound { lipschitz, perturbed };
 enum class NormalMethod { central, forward, tetra, analytic };
 enum class ShadowMode { none, hard, soft };
 // Where a hard shadow ray starts and which hits count. seed_offset: start at p + bias * hit_eps * n (Lee's
@@ -62,6 +67,7 @@ struct MarchSettings {
   EpsMode eps_mode = EpsMode::absolute;
   HitRefine refine = HitRefine::none;
   Clip clip = Clip::none;
+  StepBound step_bound = StepBound::lipschitz;
   double step_scale = 1;    // multiplies every step (sphere, relaxed, scaled)
   double relaxation = 1.6;  // over-relaxation factor of the relaxed marcher
   double fixed_step = 0.05;
@@ -77,8 +83,15 @@ struct MarchSettings {
 // that honour L (scaled; relaxed, whose over-relaxed step and unbounding spheres build on f / L). The sphere marcher
 // steps by f whatever L is, as the seeds do; the fixed marcher does not step by f. Marches, soft shadows, the
 // validator's safe-step check and the exported GLSL marcher all step by this one rule.
+inline bool honours_lipschitz(Marcher m) { return m == Marcher::scaled || m == Marcher::relaxed; }
 inline double step_per_unit_f(const MarchSettings& m, double lipschitz) {
-  return m.marcher == Marcher::scaled || m.marcher == Marcher::relaxed ? m.step_scale / lipschitz : m.step_scale;
+  return honours_lipschitz(m.marcher) ? m.step_scale / lipschitz : m.step_scale;
+}
+
+// The band a march steps past by the perturbed bound (StepBound::perturbed, a marcher that honours L): the field's
+// declared width; else +inf, where (f - width) * anything never beats f * step_per_unit_f.
+inline double stepped_perturbation(const MarchSettings& m, double width) {
+  return honours_lipschitz(m.marcher) && m.step_bound == StepBound::perturbed ? width : INFINITY;
 }
 
 enum class SpecularModel { none, phong, blinn };

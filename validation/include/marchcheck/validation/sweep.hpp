@@ -81,7 +81,8 @@ void finish_sweep(SweepResult& result);
 void mark_pareto(std::vector<SweepPoint>& points, const std::string& error_metric);
 
 // The seed's own settings beaten: a sweep of the known levers around the scene's settings (its marcher and the
-// relaxed one, the secant refinement, hit_eps from a tenth to ten times the seed's) and, among the points that pass
+// relaxed one, the secant refinement, hit_eps from a tenth to ten times the seed's, clipping to the field's bounds,
+// and on a field that declares a perturbation the perturbed step bound) and, among the points that pass
 // every check, the cheapest at the seed's hit accuracy and the most accurate at no more than the seed's cost.
 // Accuracy: hit.t_err_p99; cost: cost.evals_per_pixel. Targets: 0.6 of the seed's cost, 10 times its accuracy.
 struct SeedBeaten {
@@ -95,6 +96,8 @@ struct SeedBeaten {
   double accuracy_gain() const;   // the seed's error over the most accurate's (0: none found)
 };
 SeedBeaten beat_the_seed(const sdf::Scene& scene, const SweepOptions& options);
+// The axes beat_the_seed sweeps, each starting with the scene's own value.
+std::vector<SweepAxis> seed_levers(const sdf::Scene& scene);
 // The choices of beat_the_seed among a sweep's points (the first the seed's), for tests of the rule alone.
 void choose_beaten(SeedBeaten& beaten);
 
