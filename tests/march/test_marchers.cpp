@@ -207,8 +207,7 @@ TEST_P(EveryMarcher, ClippedToTheBoxesOfAUnionsChildren) {
 // f - 0.2) hit where stepping by f / 7 does (within the hit threshold along the ray, both), with at least 5
 // evaluations fewer a ray: the crawl from y = 10 to the bumps at f / 7 (about 23 steps of 1 - 1/7, 13 relaxed of
 // 1 - 1.6/7) becomes one or two steps; near the bumps both step by f / 7. The check can fail: a band understated as 0 (steps of f on a field of slope 7) passes the surface on
-// some rays. Broken variants: the perturbed term dropped (march-perturbed-step-dropped: as many evaluations as f / 7),
-// the relaxed marcher's unbounding spheres summed past the band once rather than twice (march-perturbed-radii-once).
+// some rays. Broken variant: the perturbed term dropped (march-perturbed-step-dropped: as many evaluations as f / 7).
 TEST(PerturbedBound, StepsFarFromADisplacedSurfaceAndHitsWhereTheLipschitzBoundDoes) {
   const sdf::Node bumpy = sdf::make(sdf::Op::displace, {{"amplitude", {0.1}}, {"frequency", {60}}}, {sdf::plane({0, 1, 0}, 0)});
   const sdf::Tape tape = sdf::compile(bumpy);
@@ -240,6 +239,28 @@ TEST(PerturbedBound, StepsFarFromADisplacedSurfaceAndHitsWhereTheLipschitzBoundD
     EXPECT_LT(perturbed_evals, lipschitz_evals - 5 * 100);
     EXPECT_GT(passed, 0) << "an understated band steps through the bumps";
   }
+}
+
+// StepRule's arithmetic on a field of L 7 with a smooth part of L 1 and a band 0.2 wide (the displaced plane
+// above), relaxed at 1.6: far from the surface a step is omega (f - 0.2), near it omega f / 7, whichever is longer;
+// two unbounding spheres each lose the band (3 + 4 - 2 * 0.2), and without the perturbed bound the band is
+// infinite and the rule is f / 7's alone. Broken variants: the spheres' sum losing the band once
+// (march-perturbed-radii-once), the perturbed term dropped (march-perturbed-step-dropped).
+TEST(PerturbedBound, AStepIsTheLongerOfTheTwoBoundsAndEachSphereLosesTheBand) {
+  MarchContext c;
+  c.lipschitz = 7;
+  c.perturbation = {1, 0.2};
+  MarchSettings s = settings(Marcher::relaxed);
+  s.step_bound = sdf::StepBound::perturbed;
+  const StepRule<double> rule(s, c);
+  EXPECT_DOUBLE_EQ(rule.step(10, 1.6), 1.6 * 9.8);
+  EXPECT_DOUBLE_EQ(rule.step(0.1, 1), 0.1 / 7);
+  EXPECT_DOUBLE_EQ(rule.radii(3, 4), 6.6);
+  EXPECT_DOUBLE_EQ(rule.radii(0.1, 0.1), 0.2 / 7);
+  s.step_bound = sdf::StepBound::lipschitz;
+  const StepRule<double> plain(s, c);
+  EXPECT_EQ(plain.step(10, 1.6), 10 * 1.6 * (1 / 7.0));
+  EXPECT_EQ(plain.radii(3, 4), 7 * (1 / 7.0));
 }
 
 TEST(RelaxedTracing, AnOverRelaxedStepPastMaxDistIsSteppedBackNotAMiss) {
