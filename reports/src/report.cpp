@@ -479,7 +479,8 @@ class Builder {
     }));
     h << "<h2 id=\"seeds-beaten\">The seeds beaten</h2>\n<p>Each seed scene's own marching settings against the best "
          "a sweep of the known levers finds (its marcher and the relaxed one, <code>refine=secant</code>, hit_eps from "
-         "a tenth to ten times the seed's, <code>clip=bounds</code>), among settings that pass every check. Accuracy: hit.t_err_p99; cost: SDF "
+         "a tenth to ten times the seed's, <code>clip=bounds</code>, and <code>step_bound=perturbed</code> where the "
+         "field declares a perturbation), among settings that pass every check. Accuracy: hit.t_err_p99; cost: SDF "
          "evaluations per pixel. Targets: the seed's accuracy at &le; "
       << number(100 * SeedBeaten::kCostTarget, 3) << "% of its evaluations, and " << number(SeedBeaten::kAccuracyTarget, 3)
       << "&times; its accuracy at &le; its evaluations; both met on " << met << " of " << beaten_.size()
