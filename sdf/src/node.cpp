@@ -136,14 +136,17 @@ FieldInfo derive_info(const Node& node, double time) {
 }
 
 std::vector<Box3> bounding_boxes(const Node& node, double time, size_t max_boxes) {
-  const Box3 hull = derive_info(node, time).bounds;
-  if (node.op != Op::union_) return {hull};
+  if (node.op != Op::union_) return {derive_info(node, time).bounds};
   std::vector<Box3> boxes;
   for (const auto& child : node.children) {
     const std::vector<Box3> own = bounding_boxes(child, time, max_boxes);
     boxes.insert(boxes.end(), own.begin(), own.end());
   }
-  return boxes.size() <= max_boxes ? boxes : std::vector<Box3>{hull};
+  if (boxes.size() <= max_boxes) return boxes;
+  // The union's derived bounds: the hull of its children's.
+  Box3 hull = boxes.front();
+  for (const Box3& b : boxes) hull = {glm::min(hull.lo, b.lo), glm::max(hull.hi, b.hi)};
+  return {hull};
 }
 
 Node example(Op op) {

@@ -75,6 +75,17 @@ TEST_P(EveryMarcher, NonFiniteOrZeroInputIsInvalidWithoutEvaluating) {
   MarchSettings bad = settings(GetParam());
   bad.hit_eps = std::nan("");
   EXPECT_EQ(march<double>(kSphere, V(0, 0, -5), V(0, 0, 1), bad, {}).outcome, Outcome::invalid);
+  // A perturbation that cannot bound a step (a smooth part of L 0: steps of infinity; a negative band: steps past
+  // f), where the marcher steps by it; ignored by the others. Broken variant: the check left out
+  // (march-invalid-perturbation-accepted).
+  MarchSettings perturbed = settings(GetParam());
+  perturbed.step_bound = sdf::StepBound::perturbed;
+  for (const sdf::Perturbation p : {sdf::Perturbation{0, 0.1}, sdf::Perturbation{1, -0.1}}) {
+    MarchContext c;
+    c.perturbation = p;
+    const Outcome o = march<double>(kSphere, V(0, 0, -5), V(0, 0, 1), perturbed, c).outcome;
+    EXPECT_EQ(o == Outcome::invalid, sdf::honours_lipschitz(GetParam())) << p.lipschitz << " " << p.width;
+  }
 }
 
 TEST_P(EveryMarcher, ZeroStepsIsAnUndecidedMissWithNoWork) {

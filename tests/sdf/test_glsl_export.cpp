@@ -113,6 +113,20 @@ TEST(GlslExport, AHalfScenesFieldIsExportedAtMediump) {
   EXPECT_EQ(shadertoy_shader(builtin_scene("fogerty")).find("precision mediump"), std::string::npos);
 }
 
+// What the exported marcher leaves out is said in it: clipping to the bounds and the perturbed step bound, each
+// only where the scene asks for it. Broken variant: the perturbed bound left out silently
+// (sdf-export-perturbed-unsaid).
+TEST(GlslExport, TheMarcherSaysWhichSettingsItDoesNotExport) {
+  Scene scene = builtin_scene("crum-lattice");
+  const std::string plain = shadertoy_shader(scene);
+  EXPECT_EQ(plain.find("is not exported"), std::string::npos);
+  apply_setting(scene, "clip", "bounds");
+  apply_setting(scene, "step_bound", "perturbed");
+  const std::string asked = shadertoy_shader(scene);
+  EXPECT_NE(asked.find("// clip=bounds is not exported"), std::string::npos);
+  EXPECT_NE(asked.find("// step_bound=perturbed is not exported"), std::string::npos);
+}
+
 // Beside a regular tetrahedron's edges (70.5 degrees inside) a point's closest triangle can face away from it: the
 // export's sign there is the ray's, not that face's. Broken variant: the face normal's sign everywhere
 // (sdf-export-mesh-sign-from-face).

@@ -744,7 +744,7 @@ std::string marcher_code(const Scene& s) {
   std::ostringstream out;
   if (m.clip == Clip::bounds)
     out << "// clip=bounds is not exported: this march covers the whole ray to maxDist (the same hits, more steps).\n";
-  if (std::isfinite(stepped_perturbation(m, derive_info(s.root, s.time).perturbation_or_plain().width)))
+  if (m.step_bound == StepBound::perturbed)
     out << "// step_bound=perturbed is not exported: this march steps by f / L alone (the same hits, more steps).\n";
   out << "// outcome: 0 hit, 1 past maxDist, 2 out of steps, 3 started inside, 4 not finite; minAbsF: smallest |f|.\n"
       << "struct March { float t; int steps; float minAbsF; int outcome; };\n"

@@ -23,9 +23,9 @@ enum class EpsMode { absolute, relative, pixel };
 // taken from the last two samples (march::secant_root), kept where one more evaluation finds |f| smaller there:
 // an error of O(eps^2) for O(eps) on a smooth surface.
 enum class HitRefine { none, secant };
-// Which part of a ray is marched. none: all of it, to max_dist; bounds: only where it crosses the box the field's
-// zero set and inside lie in (derive_info), so a ray that misses the box ends after no evaluation and one that
-// leaves it ends there (march::clip_span).
+// Which part of a ray is marched. none: all of it, to max_dist; bounds: only from where it first enters to where it
+// last leaves the boxes the field's zero set and inside lie in (bounding_boxes), so a ray that misses them ends after
+// no evaluation and one that leaves them ends there (march::clip_span).
 enum class Clip { none, bounds };
 // What bounds a step of the marchers that honour L (scaled, relaxed). lipschitz: f / L. perturbed: on a field that
 // is a smooth one plus a perturbation within a band (FieldInfo::perturbation: a height field's noise, a
