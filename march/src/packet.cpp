@@ -239,10 +239,10 @@ int compact(Lanes<T>& l, int count, RayRecord<T>* records, int max_steps, Secant
   return kept;
 }
 
-// Marches rays[ids[i]] into records[ids[i]], i < n <= kMaxPacket, by rule R.
+// Marches rays[ids[i]] over spans[i] (clip_span's) into records[ids[i]], i < n <= kMaxPacket, by rule R.
 template <Rule R, bool Secant, class T>
-void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids, int n, RayRecord<T>* records,
-                 const MarchSettings& s, const MarchContext& c) {
+void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids, const Span<T>* spans, int n,
+                 RayRecord<T>* records, const MarchSettings& s, const MarchContext& c) {
   Lanes<T> l;
   SecantRoots<T> roots;
   std::fill_n(l.min_abs, n, std::numeric_limits<T>::infinity());
@@ -261,9 +261,8 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
     l.dy[i] = ray.direction.y;
     l.dz[i] = ray.direction.z;
     // As march(): from the start of the ray's span (the traces' t and their last step's start), to its end.
-    const Span<T> span = clip_span(s, c, ray.origin, ray.direction, T(0), static_cast<T>(ray.max_dist));
-    l.t[i] = l.prev_t[i] = l.lo[i] = span.t0;
-    l.max_dist[i] = span.t1;
+    l.t[i] = l.prev_t[i] = l.lo[i] = spans[i].t0;
+    l.max_dist[i] = spans[i].t1;
     l.id[i] = ids[i];
   }
   const StepRule<T> rule(s, c);
@@ -319,29 +318,34 @@ void march_packet(const sdf::Tape& tape, const PacketRay<T>* rays, RayRecord<T>*
                   const MarchSettings& s, const MarchContext& c) {
   const auto one_point = [&tape](glm::vec<3, T> p) { return sdf::evaluate(tape, p); };
   int active[kMaxPacket];
+  Span<T> spans[kMaxPacket];
   // settings_invalid reads max_dist only as max_dist > 0: decided once here rather than per ray.
   MarchSettings unit = s;
   unit.max_dist = 1;
-  const bool settings_bad = settings_invalid(unit, c);
+  const bool settings_bad = settings_invalid(unit, c) || !(0 < s.max_steps);
+  const bool clipped = s.clip != sdf::Clip::none;
   for (int base = 0; base < n; base += kMaxPacket) {
     const int m = std::min(kMaxPacket, n - base);
     int count = 0;
     for (int i = 0; i < m; ++i) {
       const PacketRay<T>& ray = rays[base + i];
       // Rare: one point at a time (with no step allowed, or outside the clip box, march() ends the ray without
-      // evaluating).
-      if (settings_bad || !(0 < s.max_steps) || !(ray.max_dist > 0) ||
-          detail::ray_degenerate(ray.origin, ray.direction, T(0)) ||
-          clip_span(s, c, ray.origin, ray.direction, T(0), static_cast<T>(ray.max_dist)).empty()) {
+      // evaluating). Each ray's span is found once, here (unclipped: all of it, as clip_span gives it).
+      const bool marchable =
+          (!settings_bad) & (ray.max_dist > 0) & (!detail::ray_degenerate(ray.origin, ray.direction, T(0)));
+      Span<T> span{T(0), static_cast<T>(ray.max_dist)};
+      if (marchable && clipped) span = clip_span(s, c, ray.origin, ray.direction, T(0), static_cast<T>(ray.max_dist));
+      if (!marchable || span.empty()) {
         MarchSettings own = s;
         own.max_dist = ray.max_dist;
         records[base + i] = march<T>(one_point, ray.origin, ray.direction, own, c);
       } else {
-        active[count++] = i;
+        active[count] = i;
+        spans[count++] = span;
       }
     }
     const bool relaxed = s.marcher == Marcher::relaxed, secant = s.refine == sdf::HitRefine::secant;
-    const auto run = [&](auto path) { path(tape, rays + base, active, count, records + base, s, c); };
+    const auto run = [&](auto path) { path(tape, rays + base, active, spans, count, records + base, s, c); };
     // The fixed marcher's bisection is its own refinement (FixedTrace takes no secant).
     if (s.marcher == Marcher::fixed) run(march_lanes<Rule::fixed, false, T>);
     else if (relaxed && secant) run(march_lanes<Rule::relaxed, true, T>);

@@ -158,16 +158,22 @@ std::vector<std::pair<RayRecord<float>, RayRecord<float>>> packet_and_alone(cons
   return both;
 }
 
-// Rays march_packet hands to march() (settings that make no sense, a non-positive max_dist, a degenerate ray)
-// end as march() ends them: invalid, after no evaluation.
+// Rays march_packet hands to march() (settings that make no sense, a non-positive max_dist, a degenerate ray: no
+// direction, or a NaN or infinity in any one of the six components) end as march() ends them: invalid, after no
+// evaluation. A direction along one axis is not degenerate. Broken variant: a ray whose direction's z is not
+// tested finite (march-ray-degenerate-skips-dz).
 TEST(Packet, InvalidSettingsAndRaysEndInvalidAsOneRayAtATime) {
   const sdf::Scene scene = sdf::builtin_scene("lee-flat");
   const sdf::Tape tape = sdf::compile(scene.root);
   const MarchContext c;
-  const std::vector<PacketRay<float>> rays = {{glm::vec3(0, 1, 0), glm::vec3(0, 0, 1), 100},
-                                              {glm::vec3(0, 1, 0), glm::vec3(0, 0, 1), 0},
-                                              {glm::vec3(0, 1, 0), glm::vec3(0), 100},
-                                              {glm::vec3(NAN, 1, 0), glm::vec3(0, 0, 1), 100}};
+  std::vector<PacketRay<float>> rays = {{glm::vec3(0, 1, 0), glm::vec3(0, 0, 1), 100},
+                                        {glm::vec3(0, 1, 0), glm::vec3(0, 0, 1), 0},
+                                        {glm::vec3(0, 1, 0), glm::vec3(0), 100}};
+  for (int k = 0; k < 6; ++k) {
+    PacketRay<float> ray{glm::vec3(0, 1, 0), glm::vec3(0, 0, 1), 100};
+    (k < 3 ? ray.origin : ray.direction)[k % 3] = k % 2 ? INFINITY : NAN;
+    rays.push_back(ray);
+  }
   for (const double step_scale : {1.0, double(NAN)}) {
     MarchSettings s = scene.march;
     s.step_scale = step_scale;
@@ -176,6 +182,9 @@ TEST(Packet, InvalidSettingsAndRaysEndInvalidAsOneRayAtATime) {
       const auto& [packet, alone] = both[i];
       EXPECT_TRUE(same(packet, alone) || (std::isnan(packet.t) && std::isnan(alone.t))) << i;
       EXPECT_EQ(packet.outcome == Outcome::invalid, std::isnan(step_scale) || i > 0) << i;
+      if (packet.outcome == Outcome::invalid) {
+        EXPECT_EQ(packet.evals, 0) << i;
+      }
     }
   }
 }
