@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
   auto* sweep_cmd = app.add_subcommand("sweep", "Accuracy and cost of every combination of parameters, and the Pareto front");
   sweep_cmd->add_option("scene", sweep.scene, "Built-in scene name, scene file (.json), or with --march a .glsl file")
       ->required();
-  sweep_cmd->add_option("--vary", sweep.vary, "KEY=V1,V2,... (repeatable; every combination is run)")->required();
+  sweep_cmd->add_option("--vary", sweep.vary, "KEY=V1,V2,... (repeatable; every combination is run); linked keys K1:K2=A1:A2,B1:B2")->required();
   sweep_cmd->add_option("--target", sweep.targets, "METRIC=VALUE: name the cheapest combination with METRIC <= VALUE (repeatable)");
   sweep_cmd->add_option("--error", sweep.error_metric, "The error metric of the Pareto front")->capture_default_str();
   sweep_cmd->add_option("--repeat", sweep.repeat, "Timed renders per combination (seconds = their median)")->capture_default_str();

@@ -425,12 +425,19 @@ void print_sweep(const validation::SweepResult& result, const std::vector<std::s
   std::vector<std::string> columns = {result.error_metric};
   for (const auto& c : others)
     if (c != result.error_metric) columns.push_back(c);
-  for (const auto& a : result.axes) out << std::left << std::setw(12) << a.key << " ";
+  // Each axis as wide as its key and its longest value (a linked axis's run long), at least 12.
+  std::vector<int> widths;
+  for (const auto& a : result.axes) {
+    size_t w = std::max<size_t>(12, a.key.size());
+    for (const auto& v : a.values) w = std::max(w, v.size());
+    widths.push_back(static_cast<int>(w));
+  }
+  for (size_t a = 0; a < result.axes.size(); ++a) out << std::left << std::setw(widths[a]) << result.axes[a].key << " ";
   for (const auto& c : columns) out << std::right << std::setw(std::max<int>(12, static_cast<int>(c.size()) + 1)) << c;
   out << "  front  checks\n";
   for (size_t i = 0; i < result.points.size(); ++i) {
     const auto& p = result.points[i];
-    for (const auto& [k, v] : p.settings) out << std::left << std::setw(12) << v << " ";
+    for (size_t a = 0; a < p.settings.size(); ++a) out << std::left << std::setw(widths[a]) << p.settings[a].second << " ";
     for (const auto& c : columns)
       out << std::right << std::setw(std::max<int>(12, static_cast<int>(c.size()) + 1)) << metric_text(p, c);
     out << "  " << (p.pareto_evals ? "E" : " ") << (p.pareto_seconds ? "S" : " ") << "     "

@@ -467,7 +467,8 @@ class Builder {
     using validation::SeedBeaten;
     const auto settings = [](const validation::SweepPoint& p) {
       std::string s;
-      for (const auto& [k, v] : p.settings) s += (s.empty() ? "" : " ") + k + "=" + v;
+      for (const auto& [axis, value] : p.settings)
+        for (const auto& [k, v] : validation::linked_settings(axis, value)) s += (s.empty() ? "" : " ") + k + "=" + v;
       return "<code>" + escape(s) + "</code>";
     };
     const auto cells = [&](const validation::SweepPoint& p) {
@@ -478,8 +479,9 @@ class Builder {
       return b.cost_ratio() <= SeedBeaten::kCostTarget && b.accuracy_gain() >= SeedBeaten::kAccuracyTarget;
     }));
     h << "<h2 id=\"seeds-beaten\">The seeds beaten</h2>\n<p>Each seed scene's own marching settings against the best "
-         "a sweep of the known levers finds (its marcher and the relaxed one, <code>refine=secant</code>, hit_eps from "
-         "a tenth to ten times the seed's, <code>clip=bounds</code>, and <code>step_bound=perturbed</code> where the "
+         "a sweep of the known levers finds (its marcher and the relaxed one, <code>refine=secant</code>, absolute hit "
+         "thresholds from a tenth to ten times the seed's and the relative one at 1.5 units in the last place of t "
+         "(<code>eps_mode=relative</code>: the finest the march's arithmetic decides), <code>clip=bounds</code>, and <code>step_bound=perturbed</code> where the "
          "field declares a perturbation), among settings that pass every check. Accuracy: hit.t_err_p99; cost: SDF "
          "evaluations per pixel. Targets: the seed's accuracy at &le; "
       << number(100 * SeedBeaten::kCostTarget, 3) << "% of its evaluations, and " << number(SeedBeaten::kAccuracyTarget, 3)

@@ -15,12 +15,18 @@
 
 namespace marchcheck::validation {
 
+// An axis varies one setting, or several that only make sense together (a linked axis: "eps_mode:hit_eps", each
+// value one text per key, "relative:1.5e-7"): keys and values joined by ':'.
 struct SweepAxis {
-  std::string key;                  // any key sdf::apply_setting accepts
+  std::string key;                  // keys sdf::apply_setting accepts, joined by ':'
   std::vector<std::string> values;  // as text, applied in order
 };
-// "KEY=V1,V2,..."; throws sdf::SceneError naming the argument when it is malformed.
+// "KEY=V1,V2,..." or "K1:K2=A1:A2,B1:B2,..."; throws sdf::SceneError naming the argument when it is malformed.
 SweepAxis parse_sweep_axis(const std::string& text);
+// The settings one axis value stands for, key by key; throws sdf::SceneError when a value has not one text per key.
+std::vector<std::pair<std::string, std::string>> linked_settings(const std::string& key, const std::string& value);
+// Applies one axis value (linked_settings) to the scene.
+void apply_sweep_setting(sdf::Scene& scene, const std::string& key, const std::string& value);
 
 // METRIC=VALUE: a combination meets the target when its metric is at most VALUE.
 struct SweepTarget {
@@ -81,7 +87,8 @@ void finish_sweep(SweepResult& result);
 void mark_pareto(std::vector<SweepPoint>& points, const std::string& error_metric);
 
 // The seed's own settings beaten: a sweep of the known levers around the scene's settings (its marcher and the
-// relaxed one, the secant refinement, hit_eps from a tenth to ten times the seed's, clipping to the field's bounds,
+// relaxed one, the secant refinement, the hit threshold with its mode (absolute from a tenth to ten times the
+// seed's, relative at 1.5 units in the last place of t), clipping to the field's bounds,
 // and on a field that declares a perturbation the perturbed step bound) and, among the points that pass
 // every check, the cheapest at the seed's hit accuracy and the most accurate at no more than the seed's cost.
 // Accuracy: hit.t_err_p99; cost: cost.evals_per_pixel. Targets: 0.6 of the seed's cost, 10 times its accuracy.
