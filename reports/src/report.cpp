@@ -330,7 +330,7 @@ class Builder {
       << "table{border-collapse:collapse;margin:.5em 0;font-size:.85em}td.l a{white-space:nowrap}td,th{border:1px solid #ccc;padding:2px 6px;"
          "text-align:right}th{background:#f3f3f3}td.l,th.l{text-align:left}\n"
       << "table.stability td:nth-child(3),table.stability td:nth-child(4){min-width:16em}\n"
-      << ".pass{color:#176b2c}.fail{color:#b00020;font-weight:bold}.expected{color:#8a5a00}\n"
+      << ".pass{color:#176b2c}.fail{color:#b00020;font-weight:bold}.expected{color:#8a5a00}.kv{white-space:nowrap}\n"
       << "figure{display:inline-block;margin:0 .6em .6em 0;vertical-align:top}figcaption{font-size:.8em;color:#555;"
          "max-width:480px}\n"
       << "img{border:1px solid #ddd}.summary{font-size:1.1em;background:#f7f7f7;padding:.6em 1em;border-left:4px solid "
@@ -466,10 +466,11 @@ class Builder {
   void beaten_section(std::ostringstream& h) const {
     using validation::SeedBeaten;
     const auto settings = [](const validation::SweepPoint& p) {
-      std::string s;
+      std::string s;  // one unbroken span per setting (a line may break at the '-' of 1.79e-07)
       for (const auto& [axis, value] : p.settings)
-        for (const auto& [k, v] : validation::linked_settings(axis, value)) s += (s.empty() ? "" : " ") + k + "=" + v;
-      return "<code>" + escape(s) + "</code>";
+        for (const auto& [k, v] : validation::linked_settings(axis, value))
+          s += (s.empty() ? "" : " ") + ("<span class=\"kv\">" + escape(k + "=" + v) + "</span>");
+      return "<code>" + s + "</code>";
     };
     const auto cells = [&](const validation::SweepPoint& p) {
       return "<td class=\"l\">" + settings(p) + "</td><td>" + number(metric_value(p.metrics, "cost.evals_per_pixel"), 4) +
