@@ -105,7 +105,7 @@ TEST(Sweep, BadAxesAndTargetsAreRejectedBeforeAnyWork) {
 
 // A linked axis sets several keys per value, in order (hit_eps after eps_mode), and a value without one text per
 // key is rejected before any work, naming both counts. Broken variant: only the first key applied
-// (sweep-linked-first-only).
+// (sweep-linked-first-only), a value not split at its colons (sweep-linked-values-split-on-comma).
 TEST(Sweep, ALinkedAxisSetsEveryKeyOfEachValue) {
   EXPECT_EQ(linked_settings("eps_mode:hit_eps", "relative:2e-7"),
             (std::vector<std::pair<std::string, std::string>>{{"eps_mode", "relative"}, {"hit_eps", "2e-7"}}));

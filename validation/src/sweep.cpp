@@ -187,7 +187,12 @@ void choose_beaten(SeedBeaten& beaten) {
 
 std::vector<SweepAxis> seed_levers(const sdf::Scene& scene) {
   // The first value of every axis is the scene's own, read back exactly.
-  const auto own = [&](const char* key) { return SweepAxis{key, {sdf::setting_text(scene, key)}}; };
+  // The scene's own value of an axis, every linked key's text read back exactly and joined as linked_settings splits.
+  const auto own = [&](const std::string& key) {
+    std::string text;
+    for (const std::string& k : split(key, ':')) text += (text.empty() ? "" : ":") + sdf::setting_text(scene, k);
+    return SweepAxis{key, {text}};
+  };
   const auto add = [](SweepAxis axis, const std::string& other) {
     if (axis.values.front() != other) axis.values.push_back(other);
     return axis;
@@ -200,7 +205,7 @@ std::vector<SweepAxis> seed_levers(const sdf::Scene& scene) {
   // The hit threshold with its mode (hit_eps alone means nothing in pixel mode): absolute from a tenth to ten times
   // the seed's, and relative at 1.5 units in the last place of t per unit, the finest the march's arithmetic decides
   // (on crum-lattice, at 0.84 units 15% of the rays stayed undecided at t ~ 480, at 1.26 none; measured).
-  SweepAxis eps{"eps_mode:hit_eps", {sdf::setting_text(scene, "eps_mode") + ":" + sdf::setting_text(scene, "hit_eps")}};
+  SweepAxis eps = own("eps_mode:hit_eps");
   for (double f : {0.1, 0.3, 3.0, 10.0}) eps.values.push_back("absolute:" + text_of(scene.march.hit_eps * f, 12));
   const double ulp = scene.march.precision == sdf::Precision::float64 ? 0x1p-52 : 0x1p-23;  // half marches in float
   eps = add(eps, "relative:" + text_of(1.5 * ulp, 3));

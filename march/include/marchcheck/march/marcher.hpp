@@ -169,7 +169,6 @@ bool settings_invalid(const MarchSettings& s, const MarchContext& c);
 
 namespace detail {
 
-
 template <class T>
 struct Tracker {
   RayRecord<T>& r;
