@@ -160,30 +160,50 @@ constexpr const char* kCost = "cost.evals_per_pixel";
 
 }  // namespace
 
+const SweepPoint& SeedBeaten::point(size_t i) const {
+  return i < sweep.points.size() ? sweep.points[i] : refined.points.at(i - sweep.points.size());
+}
+
 double SeedBeaten::cost_ratio() const {
-  return cheapest ? sweep.points[*cheapest].metrics.at(kCost) / seed().metrics.at(kCost) : INFINITY;
+  return cheapest ? point(*cheapest).metrics.at(kCost) / seed().metrics.at(kCost) : INFINITY;
 }
 
 double SeedBeaten::accuracy_gain() const {
   if (!most_accurate) return 0;
-  const double best = sweep.points[*most_accurate].metrics.at(kError);
+  const double best = point(*most_accurate).metrics.at(kError);
   return best > 0 ? seed().metrics.at(kError) / best : INFINITY;
 }
 
 void choose_beaten(SeedBeaten& beaten) {
-  const auto& points = beaten.sweep.points;
+  beaten.cheapest = beaten.most_accurate = std::nullopt;
   const double seed_error = beaten.seed().metrics.at(kError), seed_cost = beaten.seed().metrics.at(kCost);
-  for (size_t i = 0; i < points.size(); ++i) {
-    const SweepPoint& p = points[i];
+  for (size_t i = 0; i < beaten.point_count(); ++i) {
+    const SweepPoint& p = beaten.point(i);
     if (!p.pass || !p.metrics.count(kError)) continue;
     const double error = p.metrics.at(kError), cost = p.metrics.at(kCost);
-    if (error <= seed_error && (!beaten.cheapest || cost < points[*beaten.cheapest].metrics.at(kCost)))
+    if (error <= seed_error && (!beaten.cheapest || cost < beaten.point(*beaten.cheapest).metrics.at(kCost)))
       beaten.cheapest = i;
     if (cost <= seed_cost &&
-        (!beaten.most_accurate || error < points[*beaten.most_accurate].metrics.at(kError)))
+        (!beaten.most_accurate || error < beaten.point(*beaten.most_accurate).metrics.at(kError)))
       beaten.most_accurate = i;
   }
 }
+
+namespace {
+
+// The setting is the text, whatever it reads: 12 digits make 3 * 1e-4 read 0.0003, not 0.00030000000000000003.
+std::string text_of(double value, int digits) {
+  char text[32];
+  return std::string(text, std::to_chars(text, text + sizeof text, value, std::chars_format::general, digits).ptr);
+}
+
+// The axis with `other` added, unless it holds it already.
+SweepAxis with(SweepAxis axis, const std::string& other) {
+  if (std::find(axis.values.begin(), axis.values.end(), other) == axis.values.end()) axis.values.push_back(other);
+  return axis;
+}
+
+}  // namespace
 
 std::vector<SweepAxis> seed_levers(const sdf::Scene& scene) {
   // The first value of every axis is the scene's own, read back exactly.
@@ -193,33 +213,50 @@ std::vector<SweepAxis> seed_levers(const sdf::Scene& scene) {
     for (const std::string& k : split(key, ':')) text += (text.empty() ? "" : ":") + sdf::setting_text(scene, k);
     return SweepAxis{key, {text}};
   };
-  const auto add = [](SweepAxis axis, const std::string& other) {
-    if (axis.values.front() != other) axis.values.push_back(other);
-    return axis;
-  };
-  // The setting is the text, whatever it reads: 12 digits make 3 * 1e-4 read 0.0003, not 0.00030000000000000003.
-  const auto text_of = [](double value, int digits) {
-    char text[32];
-    return std::string(text, std::to_chars(text, text + sizeof text, value, std::chars_format::general, digits).ptr);
-  };
   // The hit threshold with its mode (hit_eps alone means nothing in pixel mode): absolute from a tenth to ten times
   // the seed's, and relative at 1.5 units in the last place of t per unit, the finest the march's arithmetic decides
   // (on crum-lattice, at 0.84 units 15% of the rays stayed undecided at t ~ 480, at 1.26 none; measured).
   SweepAxis eps = own("eps_mode:hit_eps");
   for (double f : {0.1, 0.3, 3.0, 10.0}) eps.values.push_back("absolute:" + text_of(scene.march.hit_eps * f, 12));
   const double ulp = scene.march.precision == sdf::Precision::float64 ? 0x1p-52 : 0x1p-23;  // half marches in float
-  eps = add(eps, "relative:" + text_of(1.5 * ulp, 3));
-  const SweepAxis marchers = add(own("marcher"), "relaxed"), refine = add(add(own("refine"), "none"), "secant");
-  const SweepAxis clip = add(own("clip"), "bounds");
+  eps = with(eps, "relative:" + text_of(1.5 * ulp, 3));
+  const SweepAxis marchers = with(own("marcher"), "relaxed"), refine = with(with(own("refine"), "none"), "secant");
+  const SweepAxis clip = with(own("clip"), "bounds");
   std::vector<SweepAxis> axes{marchers, refine, eps, clip};
   // The perturbed bound changes nothing on a field that declares no perturbation.
-  if (sdf::derive_info(scene.root, scene.time).perturbation) axes.push_back(add(own("step_bound"), "perturbed"));
+  if (sdf::derive_info(scene.root, scene.time).perturbation) axes.push_back(with(own("step_bound"), "perturbed"));
+  return axes;
+}
+
+std::vector<SweepAxis> refine_levers(const sdf::Scene& scene, const SweepPoint& about) {
+  std::vector<SweepAxis> axes;
+  bool relaxed = false;
+  for (const auto& [key, value] : about.settings) {
+    SweepAxis axis{key, {value}};
+    if (key == "eps_mode:hit_eps") {
+      const auto settings = linked_settings(key, value);  // mode, threshold
+      double eps = 0;
+      std::from_chars(settings[1].second.data(), settings[1].second.data() + settings[1].second.size(), eps);
+      for (double f : {1.4, 2.0}) axis.values.push_back(settings[0].second + ":" + text_of(eps * f, 12));
+    }
+    relaxed = relaxed || (key == "marcher" && value == "relaxed");
+    axes.push_back(axis);
+  }
+  if (relaxed) {
+    SweepAxis relaxation{"relaxation", {sdf::setting_text(scene, "relaxation")}};
+    for (const char* omega : {"1.1", "1.3", "1.8"}) relaxation = with(relaxation, omega);
+    axes.push_back(relaxation);
+  }
   return axes;
 }
 
 SeedBeaten beat_the_seed(const sdf::Scene& scene, const SweepOptions& options) {
-  SeedBeaten beaten{scene.name, sweep(scene, seed_levers(scene), options), {}, {}};
+  SeedBeaten beaten{scene.name, sweep(scene, seed_levers(scene), options), {}, {}, {}};
   choose_beaten(beaten);
+  if (beaten.cheapest) {
+    beaten.refined = sweep(scene, refine_levers(scene, beaten.point(*beaten.cheapest)), options);
+    choose_beaten(beaten);
+  }
   return beaten;
 }
 
