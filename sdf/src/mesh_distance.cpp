@@ -134,7 +134,7 @@ void MeshDistance::set_oriented_box(BvhNode<S>& node, int k, const std::array<dv
   }
 }
 
-// A node of the binary tree the four-wide one is collapsed from.
+// A node of the binary tree the wide one is collapsed from.
 struct MeshDistance::BinaryNode {
   dvec3 lo, hi;
   std::uint32_t first;   // leaf: first triangle (BVH order); inner: left child
@@ -182,6 +182,26 @@ MeshDistance::MeshDistance(const meshes::Mesh& mesh, std::string note)
   }
   collapse(binary, 0, true, d);
   double_ = std::move(d);
+  build_start_grid();
+}
+
+// About two cells per leaf across (the cube root of the leaves, doubled), at most 32 a side: 32^3 searches at most,
+// tens of milliseconds against the construction's checks of the mesh.
+void MeshDistance::build_start_grid() {
+  const auto leaves = static_cast<double>(single_.leaves.size());
+  const int cells = std::min(32, static_cast<int>(std::ceil(2 * std::cbrt(leaves))));
+  if (cells < 2) return;
+  const glm::dvec3 size = bounds_.size();
+  start_origin_ = glm::vec3(bounds_.lo);
+  start_cells_per_unit_ = glm::vec3(glm::dvec3(cells) / glm::max(size, glm::dvec3(1e-30)));
+  start_leaves_.resize(static_cast<size_t>(cells) * cells * cells);
+  for (int z = 0, i = 0; z < cells; ++z)
+    for (int y = 0; y < cells; ++y)
+      for (int x = 0; x < cells; ++x, ++i) {
+        const glm::vec3 centre(bounds_.lo + (glm::dvec3(x, y, z) + 0.5) / double(cells) * size);
+        start_leaves_[i] = search(centre, kNoLeaf).leaf;
+      }
+  start_cells_ = cells;
 }
 
 // Median split on the longest axis of the centroids' box, at a multiple of the leaf width so leaves are full.
@@ -214,9 +234,9 @@ std::uint32_t MeshDistance::split(std::vector<BinaryNode>& binary, const std::ve
   return index;
 }
 
-// Collapsed to four children per node: an inner child with the largest box is replaced by its two children
-// until there are four. Float boxes are rounded outwards, so a float query never prunes a box that holds its
-// closest triangle. The root is a four-wide node even over a single leaf.
+// Collapsed to kNodeWidth children per node: an inner child with the largest box is replaced by its two children
+// until there are kNodeWidth. Float boxes are rounded outwards, so a float query never prunes a box that holds its
+// closest triangle. The root is a full-width node even over a single leaf.
 std::uint32_t MeshDistance::collapse(const std::vector<BinaryNode>& binary, std::uint32_t at, bool root,
                                      Arrays<double>& d) {
   const BinaryNode& b = binary[at];
@@ -249,8 +269,8 @@ std::uint32_t MeshDistance::collapse(const std::vector<BinaryNode>& binary, std:
       set_oriented_box(single_.nodes[index], k, frame, d.corners, c.begin, c.end);
     }
     for (int i = 0; i < 3; ++i) {
-      const double lo = used ? binary[children[k]].lo[i] : INFINITY;
-      const double hi = used ? binary[children[k]].hi[i] : -INFINITY;
+      const double lo = used ? binary[children[k]].lo[i] : NAN;
+      const double hi = used ? binary[children[k]].hi[i] : NAN;
       d.nodes[index].lo[i][k] = lo;
       d.nodes[index].hi[i][k] = hi;
       float flo = static_cast<float>(lo), fhi = static_cast<float>(hi);

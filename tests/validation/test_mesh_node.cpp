@@ -221,18 +221,20 @@ TEST(MeshNode, SearchFindsExactlyTheBruteForceClosestTriangle) {
 // The search's cost, counted in leaves read (16 triangles each), at 2000 random points in 1.2x the box of a finely
 // tessellated torus and icosphere (21,600 and 20,480 triangles): on a curved surface many leaves' axis-aligned
 // boxes come nearer a point than its closest triangle, the oriented boxes about the patches' planes far fewer.
-// Measured: torus 5.17, icosphere 5.16 leaves a point. Broken variants: the axis-aligned boxes alone
-// (sdf-mesh-oriented-boxes-unused) 10.44 and 17.34; the boxes' sides along an arbitrary direction in the patch's
-// plane, not the one it spreads along (sdf-mesh-oriented-box-not-spread) 5.55 and 5.29. Limits: 3% above the
-// measured counts, which are deterministic (a fixed seed, IEEE arithmetic without contraction, nothing timed).
+// A search starts from the start grid's leaf, near its answer. Measured: torus 4.75, icosphere 4.30 leaves a point
+// (5.17 and 5.16 from the root of a four-wide tree). Broken variants: the axis-aligned boxes alone
+// (sdf-mesh-oriented-boxes-unused); the boxes' sides along an arbitrary direction in the patch's plane, not the one
+// it spreads along (sdf-mesh-oriented-box-not-spread); no start grid (sdf-mesh-start-grid-unused); the children
+// searched farthest first (sdf-mesh-children-farthest-first). Limits: 3% above the measured counts, which are
+// deterministic (a fixed seed, IEEE arithmetic without contraction, nothing timed).
 TEST(MeshNode, OrientedBoxesKeepTheSearchToAFewLeaves) {
   struct Expected {
     const char* name;
     meshes::ProceduralMesh mesh;
     double leaves;
   };
-  for (const auto& [name, mesh, measured] : {Expected{"torus", meshes::torus(1, 0.35, 120, 90), 5.17},
-                                             Expected{"icosphere", meshes::icosphere(1, 5), 5.16}}) {
+  for (const auto& [name, mesh, measured] : {Expected{"torus", meshes::torus(1, 0.35, 120, 90), 4.75},
+                                             Expected{"icosphere", meshes::icosphere(1, 5), 4.30}}) {
     const MeshDistance md(mesh.mesh);
     std::mt19937 rng(16);
     std::uniform_real_distribution<double> u(-0.6, 0.6);
@@ -243,6 +245,46 @@ TEST(MeshNode, OrientedBoxesKeepTheSearchToAFewLeaves) {
       leaves += md.leaves_searched(glm::vec3(b.center() + b.size() * dvec3(u(rng), u(rng), u(rng))));
     EXPECT_LE(leaves / kPoints, 1.03 * measured) << name;
   }
+}
+
+// The order a node's children are searched in: a sorting network on keys of a value's bits and its lane. Random
+// values with exact ties, zeros, +inf and NaN (a child a NaN point cannot be near), in float and double: the
+// order is a permutation, the values never decrease (NaN last), and equal values keep their lanes' order. Broken
+// variant: the larger of each pair kept low (sdf-mesh-sort-descending).
+template <class S>
+void check_nearest_first() {
+  std::mt19937 rng(21);
+  std::uniform_int_distribution<int> pick(0, 9);
+  constexpr std::size_t kN = 8;
+  for (int trial = 0; trial < 2000; ++trial) {
+    S values[kN];
+    for (S& v : values) {
+      const int k = pick(rng);
+      v = k == 0 ? S(0) : k == 1 ? std::numeric_limits<S>::infinity() : k == 2 ? std::numeric_limits<S>::quiet_NaN()
+                                                                        : static_cast<S>(k % 4);  // ties
+    }
+    std::uint32_t order[kN];
+    detail::nearest_first<kN>(values, order);
+    std::vector<std::uint32_t> lanes(order, order + kN);
+    std::sort(lanes.begin(), lanes.end());
+    for (std::uint32_t i = 0; i < kN; ++i) ASSERT_EQ(lanes[i], i) << "not a permutation";
+    for (std::size_t i = 1; i < kN; ++i) {
+      const S a = values[order[i - 1]], b = values[order[i]];
+      if (std::isnan(a)) {
+        EXPECT_TRUE(std::isnan(b)) << "NaN before a number at " << i;
+      } else if (!std::isnan(b)) {
+        EXPECT_LE(a, b) << "at " << i;
+      }
+      if (a == b || (std::isnan(a) && std::isnan(b))) {
+        EXPECT_LT(order[i - 1], order[i]) << "a tie out of lane order";
+      }
+    }
+  }
+}
+
+TEST(MeshNode, ChildrenAreSearchedNearestFirstTiesInLaneOrder) {
+  check_nearest_first<float>();
+  check_nearest_first<double>();
 }
 
 // bounds_distance2's oriented box is computed in float, yet must never come out above the distance to the box
@@ -316,11 +358,14 @@ TEST(MeshNode, OrientedBoxBoundAllowsForFloatRounding) {
 // Coherent points, as a packet's lanes and a ray's steps are: rays from far outside toward each vertex and edge
 // midpoint, each step halving the distance left (so each point lies within the previous one's distance and its
 // search starts from that one's leaf), ending on the vertex or edge, where triangles tie. The batched search
-// finds the brute force's distance2 at every point with a triangle at that distance, and signed_distances gives
-// the single signed_distance bit for bit (a tied triangle shares the closest point's feature, so its sign).
-// Broken variants: the start leaf skipped in the tree but never searched (sdf-mesh-start-leaf-skipped); a NaN
-// point at distance 0 from every box, searching forever (sdf-mesh-nan-box-zero); or given +inf when no triangle
-// was found (sdf-mesh-nothing-found-infinite).
+// finds the brute force's distance2 at every point with a triangle at that distance, the single search's triangle
+// (wherever each started, among tied ones the first in BVH order), and signed_distances gives the single
+// signed_distance bit for bit (tied triangles compute the closest point each in its own way, so the sign of a point
+// within rounding of the surface). Broken variants: the start leaf skipped in the tree but never searched
+// (sdf-mesh-start-leaf-skipped); a NaN point at distance 0 from every box, searching forever (sdf-mesh-nan-box-zero);
+// or given +inf when no triangle was found (sdf-mesh-nothing-found-infinite); the first tie found kept
+// (sdf-mesh-tie-first-found: 24 of the torus's float distances differ in sign); a child whose box ties the best
+// pruned (sdf-mesh-tied-box-pruned).
 TEST(MeshNode, BatchedSearchFromANeighboursLeafGivesTheSingleSearchesAnswers) {
   for (const auto& c : cases()) {
     const MeshDistance md(c.mesh.mesh);
@@ -348,9 +393,10 @@ TEST(MeshNode, BatchedSearchFromANeighboursLeafGivesTheSingleSearchesAnswers) {
         z.push_back(p.z);
       }
       md.signed_distances(x.data(), y.data(), z.data(), distances.data(), static_cast<int>(ps.size()));
-      int wrong = 0, wrong_distance = 0;
+      int wrong = 0, wrong_distance = 0, wrong_triangle = 0;
       for (size_t i = 0; i < ps.size(); ++i) {
         const S single = md.signed_distance(ps[i]);
+        wrong_triangle += md.closest(ps[i]).triangle != batched[i].triangle;
         if (std::isnan(ps[i].x + ps[i].z)) {  // no closest triangle: NaN, not a number from triangle 0
           EXPECT_TRUE(std::isnan(single) && std::isnan(distances[i])) << c.name;
           continue;
@@ -360,6 +406,7 @@ TEST(MeshNode, BatchedSearchFromANeighboursLeafGivesTheSingleSearchesAnswers) {
       }
       EXPECT_EQ(wrong, 0) << c.name << " of " << ps.size();
       EXPECT_EQ(wrong_distance, 0) << c.name << " of " << ps.size();
+      EXPECT_EQ(wrong_triangle, 0) << c.name << " of " << ps.size();
     };
     check(0.0);
     check(0.0f);

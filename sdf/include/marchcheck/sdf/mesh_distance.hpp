@@ -12,12 +12,15 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <iterator>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace marchcheck::sdf {
@@ -55,18 +58,17 @@ class MeshDistance {
   template <class S>
   Closest<S> closest(glm::vec<3, S> p) const;
   // closest(points[i]) for each i < n, for coherent points (a packet's neighbouring rays, a ray's next step): a
-  // search starts from the leaf where the previous point's ended, when p lies within that point's distance of it,
-  // so it begins with a bound near its answer and prunes most of the tree. The same distance2; on an exact tie
-  // (triangles around a closest vertex or edge) possibly another of the tied triangles, which share the closest
-  // point's feature and so its pseudonormal and sign.
+  // search starts from the leaf where the previous point's ended, when p lies within that point's distance of it
+  // (else as closest(p) starts), so it begins with a bound near its answer and prunes most of the tree. The same
+  // answer as closest(p), bit for bit: wherever a search starts, it returns the nearest triangle first in BVH order.
   template <class S>
   void closest(const glm::vec<3, S>* points, Closest<S>* out, int n) const;
 
   // How many leaves (up to 16 triangles each) closest(p) searches: its cost, as deterministic as a march's
-  // evaluations, and what the bounds of the tree's boxes decide.
+  // evaluations, and what the bounds of the tree's boxes and the start grid decide.
   template <class S>
   int leaves_searched(glm::vec<3, S> p) const {
-    return static_cast<int>(search(p, kNoLeaf).leaves);
+    return static_cast<int>(search(p, start_leaf(p)).leaves);
   }
 
   // Negative inside. T is float, double or Dual of them (the gradient is (p - closest) / distance, signed).
@@ -90,13 +92,15 @@ class MeshDistance {
   struct alignas(64) Leaf {
     std::array<S, kLeafWidth> a[3], b[3], c[3], n[3];
   };
-  // kNodeWidth children's bounds side by side (per axis, then child), tested together. A child is an inner node, or a
-  // leaf with kLeafBit set; an unused one has an empty box (lo = +inf), which is never nearer than any distance.
+  // kNodeWidth children's bounds side by side (per axis, then child), tested together: 8 floats, one AVX register,
+  // so a search reads two thirds of the nodes a four-wide tree makes it read (measured 11.1 against 16.5 a point on
+  // an 86k-triangle torus), at one vector operation each. A child is an inner node, or a
+  // leaf with kLeafBit set; an unused one has NaN bounds, so a NaN distance, which is never searched.
   // Each child has an axis-aligned box and an oriented one (a centre, three unit axes, half extents along them)
   // about its triangles' mean plane: on a curved surface's patch, or one askew to the axes, the oriented box is
   // far the tighter: the search reads a third (torus) to a sixth (icosphere) of the leaves at random points.
   static constexpr std::uint32_t kLeafBit = 1u << 31;
-  static constexpr int kNodeWidth = 4;
+  static constexpr int kNodeWidth = 8;
   template <class S>
   struct BvhNode {
     std::array<S, kNodeWidth> lo[3], hi[3];
@@ -118,8 +122,8 @@ class MeshDistance {
   static void set_oriented_box(BvhNode<S>& node, int k, const std::array<glm::dvec3, 3>& axes,
                                const std::vector<std::array<glm::dvec3, 3>>& corners, std::uint32_t begin,
                                std::uint32_t end);
-  // The construction's stages: a binary tree by median splits, then collapsed to four-wide nodes in double and
-  // in float.
+  // The construction's stages: a binary tree by median splits, then collapsed to kNodeWidth-wide nodes in double
+  // and in float.
   struct BinaryNode;
   std::uint32_t split(std::vector<BinaryNode>& binary, const std::vector<glm::dvec3>& centroids, std::uint32_t first,
                       std::uint32_t count);
@@ -133,6 +137,13 @@ class MeshDistance {
     std::uint32_t slot, leaf, lane;
     std::uint32_t leaves;  // searched
   };
+  // Where a search with no neighbour to start from begins: the leaf holding the triangle nearest the centre of p's
+  // cell in a grid over the mesh's box (p clamped into it). A start near the answer bounds the search at once: at
+  // random points about an 86k-triangle torus it reads 14% fewer leaves than one from the root alone. kNoLeaf for a
+  // NaN coordinate, or where the mesh has too few leaves for a grid.
+  template <class S>
+  std::uint32_t start_leaf(glm::vec<3, S> p) const;
+  void build_start_grid();
   // The closest triangle to p, starting from leaf `start` (kNoLeaf: from the root alone).
   template <class S>
   Found<S> search(glm::vec<3, S> p, std::uint32_t start) const;
@@ -159,6 +170,9 @@ class MeshDistance {
   std::string note_;
   Box3 bounds_;
   std::vector<std::uint32_t> order_;  // BVH position -> index in mesh_.triangles
+  int start_cells_ = 0;                // per axis; 0: no grid
+  glm::vec3 start_origin_{0}, start_cells_per_unit_{0};
+  std::vector<std::uint32_t> start_leaves_;  // by cell, x fastest
   Arrays<float> single_;
   Arrays<double> double_;
 };
@@ -233,7 +247,7 @@ inline void leaf_distance2(glm::vec<3, S> p, const L& l, S* out) {
   for (std::size_t at = 0; at < kLanes; at += kRow) leaf_row_distance2<kRow>(p, l, at, out + at);
 }
 
-// A lower bound on the squared distance from p to each of a node's four children: the larger of the squared
+// A lower bound on the squared distance from p to each of a node's children: the larger of the squared
 // distances to its axis-aligned box and to its oriented box. The oriented one is computed in S and lowered by what
 // rounding can add to it: p's coordinates along an axis ((p - centre) . axis) err by at most 4 roundoffs of
 // |p - centre|'s L1 norm (a subtraction and a three-term dot product; an axis's components are at most 1), taken
@@ -268,6 +282,47 @@ inline void bounds_distance2(glm::vec<3, S> p, const Node& node, S* out) {
   const V bound = oriented > box ? oriented : box;
   std::memcpy(out, &bound, sizeof bound);
 }
+
+// One stage of a bitonic sorting network on N lanes (blocks of K, pairs J apart), then the stages after it; the
+// shuffle and the choice of the smaller or larger are constants, made at compile time.
+template <std::size_t N, std::size_t K, std::size_t J, class Key, class Mask>
+[[gnu::always_inline]] inline Key bitonic_stages(Key key) {
+  using I = std::remove_cvref_t<decltype(Mask{}[0])>;
+  const auto [partner, smaller] = []<std::size_t... L>(std::index_sequence<L...>) {
+    return std::pair{Mask{static_cast<I>(L ^ J)...},
+                     Mask{static_cast<I>(((L & J) == 0) == ((L & K) == 0) ? -1 : 0)...}};
+  }(std::make_index_sequence<N>{});
+  const Key other = __builtin_shuffle(key, partner);
+  key = smaller ? (key < other ? key : other) : (key < other ? other : key);
+  if constexpr (J > 1) {
+    return bitonic_stages<N, K, J / 2, Key, Mask>(key);
+  } else if constexpr (K < N) {
+    return bitonic_stages<N, 2 * K, K, Key, Mask>(key);
+  } else {
+    return key;
+  }
+}
+
+// Lanes 0..N-1 (a power of two) ordered by their values, the least first: a bitonic sorting network on keys that hold
+// a value's bits above its lane (non-negative floats and doubles order as their bits, NaN after +inf), so without a
+// branch on the data. The lane takes the value's lowest bits: values within a few units in the last place order by
+// lane, which only orders the search, never prunes it.
+template <std::size_t N, class S>
+[[gnu::always_inline]] inline void nearest_first(const S* values, std::uint32_t* order) {
+  using U = std::conditional_t<sizeof(S) == 4, std::uint32_t, std::uint64_t>;
+  typedef U Key __attribute__((vector_size(N * sizeof(U))));
+  typedef std::make_signed_t<U> I;
+  typedef I Mask __attribute__((vector_size(N * sizeof(U))));
+  static_assert(N >= 2 && (N & (N - 1)) == 0);
+  constexpr U kLaneMask = N - 1;
+  Key key;
+  std::memcpy(&key, values, sizeof key);
+  const Key lanes = []<std::size_t... L>(std::index_sequence<L...>) {
+    return Key{static_cast<U>(L)...};
+  }(std::make_index_sequence<N>{});
+  key = bitonic_stages<N, 2, 1, Key, Mask>((key & ~kLaneMask) | lanes);
+  for (std::size_t i = 0; i < N; ++i) order[i] = static_cast<std::uint32_t>(key[i] & kLaneMask);
+}
 #pragma GCC diagnostic pop
 
 }  // namespace detail
@@ -278,12 +333,15 @@ void MeshDistance::take_leaf(glm::vec<3, S> p, std::uint32_t index, Found<S>& fo
   S d2[kLeafWidth];
   detail::leaf_distance2(p, l, d2);
   ++found.leaves;
-  // A lane repeating the last triangle is never strictly nearer than it.
-  const std::uint32_t before = found.slot;
+  // The nearest, the first in BVH order among exact ties (triangles about a closest vertex or edge), so that the
+  // answer does not depend on where the search started: tied triangles compute the closest point, and so the sign
+  // of a point within rounding of the surface, each in its own way. A lane repeating the last triangle ties with
+  // it and comes after it.
+  const std::uint32_t before = found.slot, first = arrays<S>().leaf_first[index];
   for (std::uint32_t k = 0; k < kLeafWidth; ++k)
-    if (d2[k] < found.best2) {
+    if (d2[k] < found.best2 || (d2[k] == found.best2 && first + k < found.slot)) {
       found.best2 = d2[k];
-      found.slot = arrays<S>().leaf_first[index] + k;
+      found.slot = first + k;
       found.leaf = index;
       found.lane = k;
     }
@@ -302,14 +360,15 @@ MeshDistance::Found<S> MeshDistance::search(glm::vec<3, S> p, std::uint32_t star
   const Arrays<S>& a = arrays<S>();
   Found<S> found{std::numeric_limits<S>::infinity(), 0, kNoLeaf, 0, 0};
   if (start != kNoLeaf) take_leaf(p, start, found);
-  // Nodes still to search with their boxes' distance2, pruned on popping against the best found by then; the
-  // nearest child is searched at once, the others wait on the stack, nearer ones on top. The collapsed median
-  // tree is at most 32 levels deep, with kNodeWidth - 1 waiting per level.
+  // Nodes still to search with their boxes' distance2, pruned on popping against the best found by then; a node's
+  // children nearer than the best are pushed farthest first, so the nearest is searched next. The collapsed median
+  // tree is at most 32 levels deep, with kNodeWidth - 1 waiting per level, and a node's children are each written
+  // before the count decides whether they stay.
   struct Pending {
     std::uint32_t node;
     S box2;
   };
-  Pending stack[32 * (kNodeWidth - 1)];
+  Pending stack[32 * (kNodeWidth - 1) + kNodeWidth];
   int top = 0;
   std::uint32_t at = 0;
   for (;;) {
@@ -319,21 +378,14 @@ MeshDistance::Found<S> MeshDistance::search(glm::vec<3, S> p, std::uint32_t star
       const BvhNode<S>& n = a.nodes[at];
       S box2[kNodeWidth];
       detail::bounds_distance2(p, n, box2);
-      // The children nearer than the best, nearest first.
-      int near[kNodeWidth], count = 0;
-      for (int k = 0; k < kNodeWidth; ++k) {
-        if (!(box2[k] < found.best2)) continue;
-        int j = count++;
-        for (; j > 0 && box2[near[j - 1]] > box2[k]; --j) near[j] = near[j - 1];
-        near[j] = k;
-      }
-      if (count > 0) {
-        for (int j = count - 1; j > 0; --j) stack[top++] = {n.child[near[j]], box2[near[j]]};
-        at = n.child[near[0]];
-        continue;
+      std::uint32_t order[kNodeWidth];
+      detail::nearest_first<kNodeWidth>(box2, order);
+      for (int j = kNodeWidth - 1; j >= 0; --j) {
+        stack[top] = {n.child[order[j]], box2[order[j]]};
+        top += box2[order[j]] <= found.best2;  // a tie may hold a triangle earlier in BVH order
       }
     }
-    while (top > 0 && !(stack[top - 1].box2 < found.best2)) --top;
+    while (top > 0 && !(stack[top - 1].box2 <= found.best2)) --top;
     if (top == 0) break;
     at = stack[--top].node;
   }
@@ -365,8 +417,21 @@ MeshDistance::Closest<S> MeshDistance::closest_of(glm::vec<3, S> p, const Found<
 }
 
 template <class S>
+std::uint32_t MeshDistance::start_leaf(glm::vec<3, S> p) const {
+  if (start_cells_ == 0) return kNoLeaf;
+  const glm::vec3 cell = (glm::vec3(p) - start_origin_) * start_cells_per_unit_;
+  const float last = static_cast<float>(start_cells_ - 1);
+  int index[3];
+  for (int i = 0; i < 3; ++i) {
+    if (std::isnan(cell[i])) return kNoLeaf;
+    index[i] = static_cast<int>(std::clamp(cell[i], 0.0f, last));
+  }
+  return start_leaves_[(static_cast<std::size_t>(index[2]) * start_cells_ + index[1]) * start_cells_ + index[0]];
+}
+
+template <class S>
 MeshDistance::Closest<S> MeshDistance::closest(glm::vec<3, S> p) const {
-  return closest_of(p, search(p, kNoLeaf));
+  return closest_of(p, search(p, start_leaf(p)));
 }
 
 template <class S>
@@ -377,7 +442,7 @@ void MeshDistance::closest(const glm::vec<3, S>* points, Closest<S>* out, int n)
     // Within the previous point's distance, that point's closest triangle lies within twice that distance of p: a
     // bound worth starting from. NaN compares false: from the root.
     const bool near = previous.leaf != kNoLeaf && glm::dot(step, step) <= previous.best2;
-    previous = search(p, near ? previous.leaf : kNoLeaf);
+    previous = search(p, near ? previous.leaf : start_leaf(p));
     out[i] = closest_of(p, previous);
   }
 }
