@@ -63,37 +63,24 @@ struct Pseudonormals {
   }
 };
 
-// An oriented box's axes for triangles [begin, end): the third their area-weighted mean normal, the first the
-// direction their corners spread most along in the plane across it (so the box is narrow across a long patch).
-// Where the normals cancel (a closed piece), the coordinate axes: any frame bounds, the tight one just prunes more.
+// An oriented box's axes for triangles [begin, end): the third their area-weighted mean normal, the others any
+// two across it (which two changes the leaves a search reads by about 1%, measured at random points about a torus
+// and an icosphere). Where the normals cancel (a closed piece), the coordinate axes: any frame bounds, the tight
+// one just prunes more.
 std::array<dvec3, 3> mean_plane_frame(const std::vector<std::array<dvec3, 3>>& corners, std::uint32_t begin,
                                       std::uint32_t end) {
-  dvec3 normal(0), mean(0);
+  dvec3 normal(0);
   double area = 0;
   for (std::uint32_t i = begin; i < end; ++i) {
     const auto& t = corners[i];
     const dvec3 twice_area = glm::cross(t[1] - t[0], t[2] - t[0]);
     normal += twice_area;
     area += glm::length(twice_area);
-    mean += t[0] + t[1] + t[2];
   }
   if (!(glm::length(normal) > 1e-3 * area)) return {dvec3(1, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, 1)};
   const dvec3 n = glm::normalize(normal);
-  mean /= 3.0 * (end - begin);
   const dvec3 u = glm::normalize(glm::cross(n, std::abs(n.x) < 0.6 ? dvec3(1, 0, 0) : dvec3(0, 1, 0)));
-  const dvec3 v = glm::cross(n, u);
-  // The in-plane covariance's principal direction.
-  double uu = 0, uv = 0, vv = 0;
-  for (std::uint32_t i = begin; i < end; ++i)
-    for (const dvec3& x : corners[i]) {
-      const double s = glm::dot(x - mean, u), t = glm::dot(x - mean, v);
-      uu += s * s;
-      uv += s * t;
-      vv += t * t;
-    }
-  const double angle = 0.5 * std::atan2(2 * uv, uu - vv);
-  const dvec3 spread = std::cos(angle) * u + std::sin(angle) * v;
-  return {spread, glm::cross(n, spread), n};
+  return {u, glm::cross(n, u), n};
 }
 
 }  // namespace

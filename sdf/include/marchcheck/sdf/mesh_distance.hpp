@@ -98,7 +98,8 @@ class MeshDistance {
   // leaf with kLeafBit set; an unused one has NaN bounds, so a NaN distance, which is never searched.
   // Each child has an axis-aligned box and an oriented one (a centre, three unit axes, half extents along them)
   // about its triangles' mean plane: on a curved surface's patch, or one askew to the axes, the oriented box is
-  // far the tighter: the search reads a third (torus) to a sixth (icosphere) of the leaves at random points.
+  // far the tighter: with it a search read half (torus) to a third (icosphere) of the leaves it read with the
+  // axis-aligned boxes alone (measured from the root at random points: MeshNode.OrientedBoxesKeep...).
   static constexpr std::uint32_t kLeafBit = 1u << 31;
   static constexpr int kNodeWidth = 8;
   template <class S>
