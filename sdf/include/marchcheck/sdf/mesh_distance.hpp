@@ -336,16 +336,22 @@ void MeshDistance::take_leaf(glm::vec<3, S> p, std::uint32_t index, Found<S>& fo
   ++found.leaves;
   // The nearest, the first in BVH order among exact ties (triangles about a closest vertex or edge), so that the
   // answer does not depend on where the search started: tied triangles compute the closest point, and so the sign
-  // of a point within rounding of the surface, each in its own way. A lane repeating the last triangle ties with
-  // it and comes after it.
+  // of a point within rounding of the surface, each in its own way. The least of the lanes in one vector operation
+  // (NaN lanes never least), then its first lane: lanes are in BVH order, and one repeating the last triangle ties
+  // with it and comes after it.
   const std::uint32_t before = found.slot, first = arrays<S>().leaf_first[index];
-  for (std::uint32_t k = 0; k < kLeafWidth; ++k)
-    if (d2[k] < found.best2 || (d2[k] == found.best2 && first + k < found.slot)) {
-      found.best2 = d2[k];
+  S least = std::numeric_limits<S>::infinity();
+  for (std::uint32_t k = 0; k < kLeafWidth; ++k) least = d2[k] < least ? d2[k] : least;
+  if (least <= found.best2) {
+    std::uint32_t k = 0;
+    while (k < kLeafWidth && !(d2[k] == least)) ++k;
+    if (k < kLeafWidth && (least < found.best2 || first + k < found.slot)) {
+      found.best2 = least;
       found.slot = first + k;
       found.leaf = index;
       found.lane = k;
     }
+  }
   // What closest_of will read of the nearest so far, fetched while the search goes on (a cache miss each, a fifth
   // of a query's time when waited for at the end).
   if (found.slot != before) {
