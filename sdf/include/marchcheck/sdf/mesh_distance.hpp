@@ -285,15 +285,15 @@ inline void bounds_distance2(glm::vec<3, S> p, const Node& node, S* out) {
 }
 
 // One stage of a bitonic sorting network on N lanes (blocks of K, pairs J apart), then the stages after it; the
-// shuffle and the choice of the smaller or larger are constants, made at compile time.
+// shuffle and the choice of the smaller or larger are constants, made at compile time (__builtin_shufflevector:
+// GCC and clang alike, as the fuzz build compiles this with clang).
 template <std::size_t N, std::size_t K, std::size_t J, class Key, class Mask>
 [[gnu::always_inline]] inline Key bitonic_stages(Key key) {
   using I = std::remove_cvref_t<decltype(Mask{}[0])>;
-  const auto [partner, smaller] = []<std::size_t... L>(std::index_sequence<L...>) {
-    return std::pair{Mask{static_cast<I>(L ^ J)...},
+  const auto [other, smaller] = [&]<std::size_t... L>(std::index_sequence<L...>) {
+    return std::pair{Key(__builtin_shufflevector(key, key, (L ^ J)...)),
                      Mask{static_cast<I>(((L & J) == 0) == ((L & K) == 0) ? -1 : 0)...}};
   }(std::make_index_sequence<N>{});
-  const Key other = __builtin_shuffle(key, partner);
   key = smaller ? (key < other ? key : other) : (key < other ? other : key);
   if constexpr (J > 1) {
     return bitonic_stages<N, K, J / 2, Key, Mask>(key);
