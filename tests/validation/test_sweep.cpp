@@ -220,8 +220,8 @@ TEST(SeedsBeaten, TheChoiceCountsTheRefinementsPointsAfterTheGrids) {
 
 // The refinement about a point holds each of its settings and varies the continuous levers: the threshold in its own
 // mode at 1.4 and 2 times, read as a person writes them, and for a relaxed march the relaxation factor (the scene's
-// first). Broken variants: the threshold held (sweep-refine-threshold-held), the relaxation left out
-// (sweep-refine-relaxation-dropped).
+// first). Broken variants: the threshold held (sweep-refine-threshold-held), only absolute thresholds refined
+// (sweep-refine-mode-absolute), the relaxation left out (sweep-refine-relaxation-dropped).
 TEST(SeedsBeaten, TheRefinementHoldsAPointsSettingsAndVariesItsThresholdAndRelaxation) {
   SweepPoint relaxed;
   relaxed.settings = {{"marcher", "relaxed"}, {"refine", "secant"}, {"eps_mode:hit_eps", "absolute:0.0003"},

@@ -229,21 +229,19 @@ std::vector<SweepAxis> seed_levers(const sdf::Scene& scene) {
 }
 
 std::vector<SweepAxis> refine_levers(const sdf::Scene& scene, const SweepPoint& about) {
+  // The point's threshold, mode and marcher read from the scene its settings make, not parsed from their text.
+  sdf::Scene at = scene;
   std::vector<SweepAxis> axes;
-  bool relaxed = false;
   for (const auto& [key, value] : about.settings) {
+    apply_sweep_setting(at, key, value);
     SweepAxis axis{key, {value}};
-    if (key == "eps_mode:hit_eps") {
-      const auto settings = linked_settings(key, value);  // mode, threshold
-      double eps = 0;
-      std::from_chars(settings[1].second.data(), settings[1].second.data() + settings[1].second.size(), eps);
-      for (double f : {1.4, 2.0}) axis.values.push_back(settings[0].second + ":" + text_of(eps * f, 12));
-    }
-    relaxed = relaxed || (key == "marcher" && value == "relaxed");
+    if (key == "eps_mode:hit_eps")
+      for (double f : {1.4, 2.0})
+        axis.values.push_back(sdf::setting_text(at, "eps_mode") + ":" + text_of(at.march.hit_eps * f, 12));
     axes.push_back(axis);
   }
-  if (relaxed) {
-    SweepAxis relaxation{"relaxation", {sdf::setting_text(scene, "relaxation")}};
+  if (at.march.marcher == sdf::Marcher::relaxed) {
+    SweepAxis relaxation{"relaxation", {sdf::setting_text(at, "relaxation")}};
     for (const char* omega : {"1.1", "1.3", "1.8"}) relaxation = with(relaxation, omega);
     axes.push_back(relaxation);
   }
