@@ -288,19 +288,21 @@ inline void bounds_distance2(glm::vec<3, S> p, const Node& node, S* out) {
 // shuffle and the choice of the smaller or larger are constants, made at compile time (__builtin_shufflevector:
 // GCC and clang alike, as the fuzz build compiles this with clang).
 template <std::size_t N, std::size_t K, std::size_t J, class Key, class Mask>
-[[gnu::always_inline]] inline Key bitonic_stages(Key key) {
+[[gnu::always_inline]] inline void bitonic_stages(Key& key) {
+  // By reference, not by value: a vector wider than the baseline's registers passed or returned by value changes
+  // the ABI, which GCC reports (-Wpsabi) at the end of every translation unit a portable build compiles.
   using I = std::remove_cvref_t<decltype(Mask{}[0])>;
-  const auto [other, smaller] = [&]<std::size_t... L>(std::index_sequence<L...>) {
-    return std::pair{Key(__builtin_shufflevector(key, key, (L ^ J)...)),
-                     Mask{static_cast<I>(((L & J) == 0) == ((L & K) == 0) ? -1 : 0)...}};
+  Key other;
+  Mask smaller;
+  [&]<std::size_t... L>(std::index_sequence<L...>) {
+    other = __builtin_shufflevector(key, key, (L ^ J)...);
+    smaller = Mask{static_cast<I>(((L & J) == 0) == ((L & K) == 0) ? -1 : 0)...};
   }(std::make_index_sequence<N>{});
   key = smaller ? (key < other ? key : other) : (key < other ? other : key);
   if constexpr (J > 1) {
-    return bitonic_stages<N, K, J / 2, Key, Mask>(key);
+    bitonic_stages<N, K, J / 2, Key, Mask>(key);
   } else if constexpr (K < N) {
-    return bitonic_stages<N, 2 * K, K, Key, Mask>(key);
-  } else {
-    return key;
+    bitonic_stages<N, 2 * K, K, Key, Mask>(key);
   }
 }
 
@@ -318,10 +320,10 @@ template <std::size_t N, class S>
   constexpr U kLaneMask = N - 1;
   Key key;
   std::memcpy(&key, values, sizeof key);
-  const Key lanes = []<std::size_t... L>(std::index_sequence<L...>) {
-    return Key{static_cast<U>(L)...};
+  [&]<std::size_t... L>(std::index_sequence<L...>) {
+    key = (key & ~kLaneMask) | Key{static_cast<U>(L)...};
   }(std::make_index_sequence<N>{});
-  key = bitonic_stages<N, 2, 1, Key, Mask>((key & ~kLaneMask) | lanes);
+  bitonic_stages<N, 2, 1, Key, Mask>(key);
   for (std::size_t i = 0; i < N; ++i) order[i] = static_cast<std::uint32_t>(key[i] & kLaneMask);
 }
 #pragma GCC diagnostic pop
