@@ -78,9 +78,20 @@ inline bool settle(Lanes<T>& l, int i, Int<T>& code, T v, T t, T a, Int<T> steps
 // lanes of a packet start together, so a running lane's step count is the packet's: `step` (this evaluation's
 // number). Every lane loads and computes every outcome, then selects (`&`, not `&&`): a load or an addition made
 // conditional does not vectorise. Returns the number of lanes still running.
-template <bool First, bool Relaxed, bool Secant, class T>
+// Perturbed: the rule has a perturbation's width; without one (+inf), its step and radii are the plain terms, bit
+// for bit, and the lanes skip the perturbed terms (the relaxed marcher takes four steps' worth a lane: half its
+// arithmetic).
+template <bool First, bool Relaxed, bool Secant, bool Perturbed, class T>
 int feed_lanes(Lanes<T>& l, int count, int step, const StepRule<T> rule, T eps_at_0, T eps_slope, int max_steps) {
   using I = Int<T>;
+  const auto step_of = [&rule](T v, T omega) {
+    if constexpr (Perturbed) return rule.step(v, omega);
+    else return v * omega * rule.scale;
+  };
+  const auto radii = [&rule](T a, T b) {
+    if constexpr (Perturbed) return rule.radii(a, b);
+    else return (a + b) * rule.radius;
+  };
   const T largest = std::numeric_limits<T>::max();
   const I running = kRunning, miss_far = I(Outcome::miss_far), hit = I(Outcome::hit), inside = I(Outcome::inside),
           invalid = I(Outcome::invalid);
@@ -90,7 +101,7 @@ int feed_lanes(Lanes<T>& l, int count, int step, const StepRule<T> rule, T eps_a
     const T v = l.f[i], t = l.t[i], a = std::abs(v);
     const T eps = eps_at_0 + eps_slope * t;  // hit_threshold: each mode is a + b t with an exact zero term
     bool back = false;
-    T forward_step = rule.step(v, T(1)), next = t + forward_step;
+    T forward_step = step_of(v, T(1)), next = t + forward_step;
     T prev_t = 0, prev_f = 0, omega = 1;
     if constexpr (Relaxed || Secant) {
       prev_t = l.prev_t[i];
@@ -101,16 +112,16 @@ int feed_lanes(Lanes<T>& l, int count, int step, const StepRule<T> rule, T eps_a
       // The last step's length, SphereTrace's prev_step, is rule.step(prev_f, omega) bit for bit: a forward step
       // is rule.step(v, omega) with omega unchanged, a step back rule.step(prev_f, 1) with omega 1 from then on.
       omega = l.omega[i];
-      const T reach = rule.radii(a, prev_f), prev_step = rule.step(prev_f, omega),
-              back_to = prev_t + rule.step(prev_f, T(1));
+      const T reach = radii(a, prev_f), prev_step = step_of(prev_f, omega),
+              back_to = prev_t + step_of(prev_f, T(1));
       back = (omega > T(1)) & (reach < prev_step);
-      forward_step = rule.step(v, omega);
+      forward_step = step_of(v, omega);
       const T ahead = t + forward_step;
       next = back ? back_to : ahead;
     }
     // As SphereTrace: past max_dist where a plain step passes it too (an over-relaxed one may yet step back).
     // One select per condition: the three combined in one condition kept GCC from vectorising the loop.
-    const T plain_reach = t + rule.step(v, T(1));
+    const T plain_reach = t + step_of(v, T(1));
     const T md = l.max_dist[i];
     I code = out_of_steps;
     code = next > md ? miss_far : code;
@@ -266,6 +277,7 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
     l.id[i] = ids[i];
   }
   const StepRule<T> rule(s, c);
+  const bool perturbed = rule.width < std::numeric_limits<T>::infinity();
   const T eps_at_0 = s.eps_mode == EpsMode::absolute ? T(s.hit_eps)
                      : s.eps_mode == EpsMode::pixel  ? T(c.footprint_at_0)
                                                      : T(0);
@@ -276,8 +288,11 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
     constexpr bool First = decltype(first)::value;
     if constexpr (R == Rule::fixed)
       return feed_fixed_lanes<First>(l, count, step, T(s.fixed_step), eps_at_0, eps_slope, s.max_steps);
+    else if (perturbed)
+      return feed_lanes<First, R == Rule::relaxed, Secant, true>(l, count, step, rule, eps_at_0, eps_slope, s.max_steps);
     else
-      return feed_lanes<First, R == Rule::relaxed, Secant>(l, count, step, rule, eps_at_0, eps_slope, s.max_steps);
+      return feed_lanes<First, R == Rule::relaxed, Secant, false>(l, count, step, rule, eps_at_0, eps_slope,
+                                                                   s.max_steps);
   };
   int count = n;
   for (int step = 1; count > 0; ++step) {
