@@ -86,11 +86,11 @@ int feed_lanes(Lanes<T>& l, int count, int step, const StepRule<T> rule, T eps_a
   using I = Int<T>;
   const auto step_of = [&rule](T v, T omega) {
     if constexpr (Perturbed) return rule.step(v, omega);
-    else return v * omega * rule.scale;
+    else return rule.plain_step(v, omega);
   };
   const auto radii = [&rule](T a, T b) {
     if constexpr (Perturbed) return rule.radii(a, b);
-    else return (a + b) * rule.radius;
+    else return rule.plain_radii(a, b);
   };
   const T largest = std::numeric_limits<T>::max();
   const I running = kRunning, miss_far = I(Outcome::miss_far), hit = I(Outcome::hit), inside = I(Outcome::inside),
@@ -289,7 +289,8 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
     if constexpr (R == Rule::fixed)
       return feed_fixed_lanes<First>(l, count, step, T(s.fixed_step), eps_at_0, eps_slope, s.max_steps);
     else if (perturbed)
-      return feed_lanes<First, R == Rule::relaxed, Secant, true>(l, count, step, rule, eps_at_0, eps_slope, s.max_steps);
+      return feed_lanes<First, R == Rule::relaxed, Secant, true>(l, count, step, rule, eps_at_0, eps_slope,
+                                                                  s.max_steps);
     else
       return feed_lanes<First, R == Rule::relaxed, Secant, false>(l, count, step, rule, eps_at_0, eps_slope,
                                                                    s.max_steps);

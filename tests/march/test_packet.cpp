@@ -107,7 +107,8 @@ class EveryBuiltinPacket : public ::testing::TestWithParam<std::string> {};
 // leaves a lane's last forward f behind (march-packet-compaction-drops-prev-f), lanes marching the whole ray
 // whatever the clip (march-packet-clip-ignored), relaxed lanes whose unbounding spheres ignore L on the L > 1
 // built-ins (march-packet-relaxed-radius-unscaled), relaxed lanes whose unbounding spheres ignore a declared
-// perturbation (march-packet-perturbed-radii-plain; on the fields that declare one, stepped by it).
+// perturbation (march-packet-perturbed-radii-plain; on the fields that declare one, stepped by it), lanes that take
+// only the plain step where a perturbation is declared (march-packet-perturbation-never-seen).
 TEST_P(EveryBuiltinPacket, SameOutcomesStepsEvaluationsNormalsAndShadowsAsOneRayAtATime) {
   for (const std::string marcher : {"own", "relaxed", "fixed", "secant", "relaxed+secant", "clip", "relaxed+perturbed"}) {
     sdf::Scene scene = sdf::builtin_scene(GetParam());

@@ -102,10 +102,13 @@ struct StepRule {
         smooth_scale(T(sdf::step_per_unit_f(s, c.perturbation.lipschitz))),
         smooth_radius(T(1 / c.perturbation.lipschitz)) {}
   // A step of omega times the bound (omega 1: a plain step).
-  T step(T v, T omega) const { return longer(v * omega * scale, (v - width) * omega * smooth_scale); }
+  T step(T v, T omega) const { return longer(plain_step(v, omega), (v - width) * omega * smooth_scale); }
   // The radii of the unbounding spheres at two points where |f| is a and b, summed (perturbed: a lower bound of
   // the sum, each radius's longer term taken alike).
-  T radii(T a, T b) const { return longer((a + b) * radius, (a + b - 2 * width) * smooth_radius); }
+  T radii(T a, T b) const { return longer(plain_radii(a, b), (a + b - 2 * width) * smooth_radius); }
+  // Their terms without the perturbation: step and radii themselves, bit for bit, where width is +inf.
+  T plain_step(T v, T omega) const { return v * omega * scale; }
+  T plain_radii(T a, T b) const { return (a + b) * radius; }
 
  private:
   static T longer(T plain, T perturbed) { return plain < perturbed ? perturbed : plain; }  // NaN: plain
