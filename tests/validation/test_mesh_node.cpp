@@ -173,7 +173,10 @@ TEST(MeshNode, SearchFindsExactlyTheBruteForceClosestTriangle) {
   // The search prunes boxes by their distance: a box pruned wrongly, or searched in an order that leaves a
   // closer triangle behind, shows here as a distance2 differing from the minimum over all triangles. Broken
   // variants: a double leaf's second row of 8 lanes reading the first row's corner a.z
-  // (sdf-leaf-row-offset-dropped), or computing the first row's triangles again (sdf-leaf-rows-all-first).
+  // (sdf-leaf-row-offset-dropped), or computing the first row's triangles again (sdf-leaf-rows-all-first); a leaf's
+  // least folded down to pairs only (sdf-mesh-least-fold-short), paired with its lane 0's triangle
+  // (sdf-mesh-least-lane-zero), or a later row's tie taken, the bipyramid's unused lane past its six triangles
+  // (sdf-mesh-least-lane-later-row).
   auto all_cases = cases();
   all_cases.push_back({"icosphere(1,4)", meshes::icosphere(1, 4)});  // the mesh-icosphere scene's
   all_cases.push_back({"bipyramid", meshes::uv_sphere(1, 2, 3)});     // six triangles: a single leaf
