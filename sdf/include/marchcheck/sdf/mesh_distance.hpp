@@ -240,14 +240,19 @@ inline void leaf_row_distance2(glm::vec<3, S> p, const L& l, std::size_t at, S* 
   std::memcpy(out, &d2sum, sizeof d2sum);
 }
 
+// How many of a leaf's lanes are computed as one vector: a row of at most 64 bytes (16 floats, 8 doubles), as clang
+// 14 cannot split a row of 16 doubles under -frounding-math (a backend crash in the fuzz build).
+template <class S>
+constexpr std::size_t row_lanes(std::size_t lanes) {
+  return std::min(lanes, 64 / sizeof(S));
+}
+
 // Squared distance from p to each of a leaf's triangles, by closest_on_triangle's arithmetic operation for
 // operation (so to the bit), with every candidate point computed and the one its branches would return chosen.
-// In rows of at most 64 bytes (16 floats, 8 doubles): clang 14 cannot split a row of 16 doubles under
-// -frounding-math (a backend crash in the fuzz build).
 template <class S, class L>
 inline void leaf_distance2(glm::vec<3, S> p, const L& l, S* out) {
   constexpr std::size_t kLanes = sizeof(l.a[0]) / sizeof(S);
-  constexpr std::size_t kRow = std::min(kLanes, 64 / sizeof(S));
+  constexpr std::size_t kRow = row_lanes<S>(kLanes);
   for (std::size_t at = 0; at < kLanes; at += kRow) leaf_row_distance2<kRow>(p, l, at, out + at);
 }
 
@@ -346,7 +351,7 @@ template <std::size_t N, std::size_t J, class V>
 // first. Folding halves takes log2 N dependent steps where a running minimum takes N (a fifth of a leaf's time).
 template <std::size_t N, class S>
 [[gnu::always_inline]] inline S least_lane(const S* values, std::uint32_t& lane) {
-  constexpr std::size_t kRow = std::min(N, 64 / sizeof(S));  // as leaf_distance2's rows (clang 14, 16 doubles)
+  constexpr std::size_t kRow = row_lanes<S>(N);
   using V = decltype(lanes<kRow>(values));
   using U = std::conditional_t<sizeof(S) == 4, std::uint32_t, std::uint64_t>;
   typedef U Index __attribute__((vector_size(kRow * sizeof(U))));
