@@ -12,6 +12,7 @@ targets=(fuzz_scene fuzz_mesh_obj fuzz_mesh_off fuzz_mesh_ply fuzz_mesh_stl)
 # fuzz_scene meets GLSL nodes: their compiler is a module, loaded at run time, that no target links.
 cmake --build build-fuzz --parallel "$(nproc)" --target "${targets[@]}" marchcheck_glslang
 mkdir -p build-fuzz/findings
+source scripts/sanitizer-options.sh
 for target in "${targets[@]}"; do
   name=${target#fuzz_}
   mkdir -p "build-fuzz/corpus/$name"

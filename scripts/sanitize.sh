@@ -11,5 +11,6 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_R
   -DMARCHCHECK_SANITIZE=ON -DMARCHCHECK_BUILD_BENCH=OFF -DMARCHCHECK_MPI=OFF "$@"
 cmake --build build-asan --parallel "$(nproc)"
 export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:check_initialization_order=1:strict_init_order=1"
+source scripts/sanitizer-options.sh
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 ctest --test-dir build-asan --output-on-failure --parallel "$(nproc)" --timeout 600
