@@ -90,6 +90,7 @@ SweepResult sweep(const sdf::Scene& scene, const std::vector<SweepAxis>& axes, c
         throw sdf::SceneError(std::string("--vary ") + e.what());
       }
   }
+  march::keep_freed_memory();  // seconds that do not depend on which combination ran first
   return sweep_combinations(scene.name, axes, options, [&](SweepPoint& point) {
     sdf::Scene s = scene;
     for (const auto& [key, value] : point.settings) apply_sweep_setting(s, key, value);
