@@ -70,7 +70,8 @@ struct SweepResult {
 size_t combination_count(const std::vector<SweepAxis>& axes);
 
 // Throws sdf::SceneError when a key or value does not apply to the scene (before any work is done). With a shard,
-// the result holds that shard's points, measured but not finished.
+// the result holds that shard's points, measured but not finished. Keeps freed memory for the rest of the process
+// (march::keep_freed_memory), so that every combination's renders are timed alike.
 SweepResult sweep(const sdf::Scene& scene, const std::vector<SweepAxis>& axes, const SweepOptions& options = {});
 
 // Every combination of the axes (the last varying fastest) that the options' shard holds, measured by `measure`
