@@ -5,16 +5,15 @@
 #include "marchcheck/sdf/scene_file.hpp"
 
 #include "builtin_param.hpp"
+#include "mapped_block.hpp"
 
 #include <gtest/gtest.h>
-#include <malloc.h>
 #include <tbb/global_control.h>
 
 #include <algorithm>
 #include <fstream>
 #include <cstdio>
 #include <cinttypes>
-#include <cstdlib>
 #include <filesystem>
 #include <numeric>
 #include <optional>
@@ -92,13 +91,7 @@ TEST(Render, FreedMemoryStaysForTheNextRender) {
 #endif
   keep_freed_memory();
   constexpr std::size_t kBlock = std::size_t(24) << 20;
-  const std::size_t mapped = mallinfo2().hblks;
-  char* block = static_cast<char*>(std::malloc(kBlock));
-  ASSERT_NE(block, nullptr);
-  std::fill_n(block, kBlock, char(1));
-  asm volatile("" : : "r"(block) : "memory");  // the block is used: the allocation stays
-  EXPECT_EQ(mallinfo2().hblks, mapped) << "the block was mapped on its own";
-  std::free(block);
+  EXPECT_FALSE(testing::mapped_on_its_own(kBlock));
   EXPECT_GE(mallinfo2().fordblks, kBlock) << "the freed block left the heap";
 }
 

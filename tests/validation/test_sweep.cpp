@@ -3,11 +3,11 @@
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/validation/sweep.hpp"
 
+#include "mapped_block.hpp"
+
 #include <gtest/gtest.h>
-#include <malloc.h>
 
 #include <algorithm>
-#include <cstdlib>
 
 namespace marchcheck::validation {
 namespace {
@@ -100,12 +100,7 @@ TEST(Sweep, TimedRendersReuseTheMemoryTheLastOneFreed) {
   GTEST_SKIP() << "AddressSanitizer's allocator replaces glibc's";
 #endif
   sweep(sdf::builtin_scene("lee-flat"), {SweepAxis{"max_steps", {"8"}}}, small_sweep());
-  const std::size_t mapped = mallinfo2().hblks;
-  void* block = std::malloc(std::size_t(24) << 20);
-  ASSERT_NE(block, nullptr);
-  asm volatile("" : : "r"(block) : "memory");  // the block is used: the allocation stays
-  EXPECT_EQ(mallinfo2().hblks, mapped) << "the block was mapped on its own";
-  std::free(block);
+  EXPECT_FALSE(testing::mapped_on_its_own(std::size_t(24) << 20));
 }
 
 TEST(Sweep, BadAxesAndTargetsAreRejectedBeforeAnyWork) {
