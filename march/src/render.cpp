@@ -144,6 +144,7 @@ struct Context {
   const SurfaceOracle* oracle;           // reference renders
   std::vector<glm::dvec3> light_positions;  // at the scene's time, computed once rather than per pixel
   ShadePrecision shade;
+  std::vector<std::optional<glm::dvec3>> uniform_colors;  // each material's uniform_color, found once
 };
 
 template <class T>
@@ -160,12 +161,18 @@ T normal_epsilon(const MarchSettings& s, T t) {
   return T(s.normal_eps_scaled ? s.normal_eps * static_cast<double>(t) : s.normal_eps);
 }
 
+// A material's colour where it is the same at every point: its ramp's, or its own without a texture.
+std::optional<glm::dvec3> uniform_color(const sdf::Scene& scene, const sdf::Material& m) {
+  if (const auto ramped = sdf::ramp_color(scene, m)) return ramped;
+  if (m.texture == sdf::TextureMapping::none) return m.color;
+  return std::nullopt;
+}
+
 glm::dvec3 material_color(const Context& ctx, int material, glm::dvec3 p, glm::dvec3 n) {
   const auto& scene = ctx.scene;
   if (material < 0) return glm::dvec3(0.8);
+  if (const auto& uniform = ctx.uniform_colors[static_cast<size_t>(material)]) return *uniform;
   const auto& m = scene.materials[static_cast<size_t>(material)];
-  if (const auto ramped = sdf::ramp_color(scene, m)) return *ramped;
-  if (m.texture == sdf::TextureMapping::none) return m.color;
   // Looked up just below the surface, as the seed does (p - n * SURF_DIST), in world coordinates.
   const glm::dvec3 q = p + ctx.origin - n * scene.march.hit_eps;
   if (m.texture == sdf::TextureMapping::planar)
@@ -413,6 +420,8 @@ class TileRenderer {
         counters_(counters), tracer_{ctx, counters}, x0_(x0), y0_(y0), x1_(std::min(x0 + kTile, out.color.width)),
         y1_(std::min(y0 + kTile, out.color.height)), w_(x1_ - x0_), pixels_(w_ * (y1_ - y0_)),
         per_pixel_cost_(!out.evals.pixels.empty() || !out.stage_evals.pixels.empty()),
+        more_images_(per_pixel_cost_ || !out.depth.pixels.empty() || !out.normal.pixels.empty() ||
+                     !out.steps.pixels.empty() || !out.id.pixels.empty() || !out.outcome.pixels.empty()),
         lights_(ctx.scene.lights.size()) {
     if (per_pixel_cost_) cost_.fill({});
   }
@@ -454,7 +463,6 @@ class TileRenderer {
     // Reference renders: the oracle's hit in double, at origin + unit direction reference_t, within reference_lift
     // of the surface (its shadow rays start there, not at the float point, which can lie deeper inside).
     double reference_t = 0, reference_lift = 0;
-    std::uint64_t batched_evals = 0;  // spent by a packet pass, charged by the stage that follows it
   };
   // Beside the pixels rather than in them, so that the tile's state stays in the first-level cache: the
   // evaluations per pixel (all stages, then each), kept only for the images that show them.
@@ -474,30 +482,20 @@ class TileRenderer {
     counters_.stages[which].seconds += std::chrono::duration<double>(now - mark_).count();
     mark_ = now;
   }
+  // Books evaluations a stage spent on pixel p: to the stage, and to the pixel where its cost images are kept.
+  void charge(Stage which, const PixelState& p, std::uint64_t evals) {
+    if (per_pixel_cost_) {
+      auto& c = cost_[static_cast<size_t>(index(p))];
+      c.evals += evals;
+      c.stages[which] += evals;
+    }
+    counters_.stages[which].evals += evals;
+  }
   // Runs one stage over the tile, timing it and charging the evaluations it reports.
   template <class Fn>
   void stage(Stage which, Fn&& fn) {
-    std::uint64_t evals = 0;
-    each([&](PixelState& p, int x, int y) {
-      const auto e = static_cast<std::uint64_t>(fn(p, x, y));
-      if (per_pixel_cost_) {
-        auto& c = cost_[static_cast<size_t>(index(p))];
-        c.evals += e;
-        c.stages[which] += e;
-      }
-      evals += e;
-    });
-    counters_.stages[which].evals += evals;
+    each([&](PixelState& p, int x, int y) { charge(which, p, static_cast<std::uint64_t>(fn(p, x, y))); });
     lap(which);
-  }
-  // A stage whose work is one pass over the whole tile (packets through the batched tape), which leaves each
-  // pixel's evaluations in batched_evals; the stage charges them pixel by pixel.
-  template <class Fn>
-  void packet_stage(Stage which, Fn&& pass) {
-    each([](PixelState& p, int, int) { p.batched_evals = 0; });
-    pass();
-    lap(which);
-    stage(which, [](PixelState& p, int, int) { return p.batched_evals; });
   }
   int index(const PixelState& p) const { return static_cast<int>(&p - px_.data()); }
   double* visibility(const PixelState& p) { return visibility_ + static_cast<size_t>(index(p)) * lights_; }
@@ -551,11 +549,10 @@ class TileRenderer {
       rays[index(p)] = {p.origin, p.direction, p.mesh.hit ? p.mesh.t : s_.max_dist};
     });
     march_packet(ctx_.tape, rays, records, pixels_, s_, ctx_.march);
-    for (int i = 0; i < pixels_; ++i) px_[static_cast<size_t>(i)].record = records[i];
-    lap(kMarch);
     stage(kMarch, [&](PixelState& p, int, int) {
-      p.on_mesh = p.mesh.hit && p.record.outcome != Outcome::hit;
-      p.record = as_read(p.record, s_);
+      const RayRecord<T>& marched = records[index(p)];
+      p.on_mesh = p.mesh.hit && marched.outcome != Outcome::hit;
+      p.record = as_read(marched, s_);
       p.hit = p.record.outcome == Outcome::hit;
       if (p.on_mesh) take_mesh(p);
       surface_found(p);
@@ -599,48 +596,46 @@ class TileRenderer {
       });
       return;
     }
-    packet_stage(kNormal, [&] {
-      // Zeroed: GCC without -march=native cannot see that the first count entries are written before the call.
-      V points[kTile * kTile] = {};
-      T eps[kTile * kTile] = {};
-      int which[kTile * kTile];
-      NormalResult<T> normals[kTile * kTile];
-      int count = 0;
-      each([&](PixelState& p, int, int) {
-        if (!p.hit) return;
-        points[count] = p.point;
-        eps[count] = normal_epsilon(s_, p.record.t);
-        which[count++] = index(p);
-      });
-      central_normals_packet(ctx_.tape, points, eps, normals, count);
-      for (int i = 0; i < count; ++i) {
-        auto& p = px_[static_cast<size_t>(which[i])];
-        p.normal = normals[i].n;
-        p.batched_evals = static_cast<std::uint64_t>(normals[i].evals);
-      }
+    // Zeroed: GCC without -march=native cannot see that the first count entries are written before the call.
+    V points[kTile * kTile] = {};
+    T eps[kTile * kTile] = {};
+    int which[kTile * kTile];
+    NormalResult<T> normals[kTile * kTile];
+    int count = 0;
+    each([&](PixelState& p, int, int) {
+      if (!p.hit) return;
+      points[count] = p.point;
+      eps[count] = normal_epsilon(s_, p.record.t);
+      which[count++] = index(p);
     });
+    central_normals_packet(ctx_.tape, points, eps, normals, count);
+    for (int i = 0; i < count; ++i) {
+      auto& p = px_[static_cast<size_t>(which[i])];
+      p.normal = normals[i].n;
+      charge(kNormal, p, static_cast<std::uint64_t>(normals[i].evals));
+    }
+    lap(kNormal);
   }
 
   void materials() {
-    packet_stage(kMaterial, [&] {
-      alignas(64) T xs[kTile * kTile], ys[kTile * kTile], zs[kTile * kTile], values[kTile * kTile];
-      int materials[kTile * kTile], which[kTile * kTile];
-      int count = 0;
-      each([&](PixelState& p, int, int) {
-        if (!p.hit) return;
-        xs[count] = p.point.x;
-        ys[count] = p.point.y;
-        zs[count] = p.point.z;
-        which[count++] = index(p);
-      });
-      for (int b = 0; b < count; b += sdf::kBatch)
-        sdf::sample_batch(ctx_.tape, xs + b, ys + b, zs + b, values + b, materials + b, std::min(sdf::kBatch, count - b));
-      for (int i = 0; i < count; ++i) {
-        auto& p = px_[static_cast<size_t>(which[i])];
-        p.material = materials[i];
-        p.batched_evals = 1;
-      }
+    alignas(64) T xs[kTile * kTile], ys[kTile * kTile], zs[kTile * kTile], values[kTile * kTile];
+    int materials[kTile * kTile], which[kTile * kTile];
+    int count = 0;
+    each([&](PixelState& p, int, int) {
+      if (!p.hit) return;
+      xs[count] = p.point.x;
+      ys[count] = p.point.y;
+      zs[count] = p.point.z;
+      which[count++] = index(p);
     });
+    for (int b = 0; b < count; b += sdf::kBatch)
+      sdf::sample_batch(ctx_.tape, xs + b, ys + b, zs + b, values + b, materials + b, std::min(sdf::kBatch, count - b));
+    for (int i = 0; i < count; ++i) {
+      auto& p = px_[static_cast<size_t>(which[i])];
+      p.material = materials[i];
+      charge(kMaterial, p, 1);
+    }
+    lap(kMaterial);
   }
 
   // Hard shadows march in packets, one per light; soft ones (and the reference's) one ray at a time.
@@ -657,30 +652,29 @@ class TileRenderer {
       });
       return;
     }
-    packet_stage(kShadow, [&] {
-      PacketRay<T> rays[kTile * kTile];
-      ShadowStart<T> starts[kTile * kTile];
-      RayRecord<T> records[kTile * kTile];
-      int which[kTile * kTile];
-      for (size_t li = 0; li < lights_; ++li) {
-        const auto& light = ctx_.scene.lights[li];
-        if (light.shadow == sdf::ShadowMode::none) continue;
-        int count = 0;
-        each([&](PixelState& p, int, int) {
-          if (!surface(p)) return;
-          const auto [to_light, dist] = toward_light(light, ctx_.light_positions[li], p.point);
-          starts[count] = shadow_start(p.point, p.normal, dist, p.record.t, light, s_, ctx_.march);
-          rays[count] = {starts[count].origin, to_light, starts[count].max_dist};
-          which[count++] = index(p);
-        });
-        march_packet(ctx_.tape, rays, records, count, s_, ctx_.march);
-        for (int i = 0; i < count; ++i) {
-          auto& p = px_[static_cast<size_t>(which[i])];
-          visibility(p)[li] = hard_visibility(records[i], starts[i], light);
-          p.batched_evals += static_cast<std::uint64_t>(records[i].evals);
-        }
+    PacketRay<T> rays[kTile * kTile];
+    ShadowStart<T> starts[kTile * kTile];
+    RayRecord<T> records[kTile * kTile];
+    int which[kTile * kTile];
+    for (size_t li = 0; li < lights_; ++li) {
+      const auto& light = ctx_.scene.lights[li];
+      if (light.shadow == sdf::ShadowMode::none) continue;
+      int count = 0;
+      each([&](PixelState& p, int, int) {
+        if (!surface(p)) return;
+        const auto [to_light, dist] = toward_light(light, ctx_.light_positions[li], p.point);
+        starts[count] = shadow_start(p.point, p.normal, dist, p.record.t, light, s_, ctx_.march);
+        rays[count] = {starts[count].origin, to_light, starts[count].max_dist};
+        which[count++] = index(p);
+      });
+      march_packet(ctx_.tape, rays, records, count, s_, ctx_.march);
+      for (int i = 0; i < count; ++i) {
+        auto& p = px_[static_cast<size_t>(which[i])];
+        visibility(p)[li] = hard_visibility(records[i], starts[i], light);
+        charge(kShadow, p, static_cast<std::uint64_t>(records[i].evals));
       }
-    });
+    }
+    lap(kShadow);
   }
 
   void ambient_occlusion() {
@@ -783,6 +777,7 @@ class TileRenderer {
     float* c = out_.color.at(x, y);
     for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(color[i]);
     counters_.steps_max = std::max(counters_.steps_max, p.record.steps);
+    if (!more_images_) return;
     if (!out_.depth.pixels.empty()) *out_.depth.at(x, y) = surface(p) ? static_cast<float>(p.record.t) : INFINITY;
     if (!out_.normal.pixels.empty()) {
       float* n = out_.normal.at(x, y);
@@ -806,6 +801,7 @@ class TileRenderer {
   Tracer<T> tracer_;
   const int x0_, y0_, x1_, y1_, w_, pixels_;
   const bool per_pixel_cost_;
+  const bool more_images_;  // any image besides the colour: write's per-image tests are skipped when none is
   const size_t lights_;
   std::array<PixelState, kTile * kTile> px_;
   Ray rays_[kTile * kTile];
@@ -824,9 +820,10 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const
   if (scene.lights.size() > kMaxLights) throw std::invalid_argument("at most 16 lights");
   const glm::dvec3 origin = march_origin(scene);
   Context ctx{scene,   origin, march_tape(scene, origin), Camera(scene.camera, w, h), {}, plan(scene, aovs, oracle),
-              nullptr, oracle, {},     shade};
+              nullptr, oracle, {},     shade,  {}};
   ctx.march = march_context(ctx.camera, scene, origin);
   for (const auto& light : scene.lights) ctx.light_positions.push_back(light.position_at(scene.time) - origin);
+  for (const auto& m : scene.materials) ctx.uniform_colors.push_back(uniform_color(scene, m));
   if (ctx.pipeline.textures) {
     soil_texture_path();  // made once, before the tiles look it up in parallel
     check_texture_files(scene);
