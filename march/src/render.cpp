@@ -8,8 +8,6 @@
 #include "marchcheck/march/texture.hpp"
 #include "marchcheck/march/tolerances.hpp"
 
-#include "huge_pages.hpp"
-
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -24,12 +22,8 @@
 
 namespace marchcheck::march {
 
-Image::Image(int w, int h, int c, float fill) : width(w), height(h), channels(c) {
-  const size_t n = static_cast<size_t>(w) * h * c;
-  pixels.reserve(n);
-  advise_huge_pages(pixels.data(), n * sizeof(float));
-  pixels.assign(n, fill);
-}
+Image::Image(int w, int h, int c, float fill)
+    : width(w), height(h), channels(c), pixels(static_cast<size_t>(w) * h * c, fill) {}
 
 std::string_view to_string(Outcome outcome) {
   switch (outcome) {

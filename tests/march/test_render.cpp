@@ -56,16 +56,18 @@ TEST(Render, JoinRenderWorkersLeavesTheProcessOneThread) {
 }
 
 // A large image lies on 2 MiB pages where the kernel allows them on request (transparent huge pages "madvise" or
-// "always"): the mapping holding the middle of lee-flat's 1280x720 colour image (10.5 MiB: 4 whole 2 MiB pages or
-// more) has at least two huge pages (smaps' AnonHugePages) right after it was made. Skipped where the kernel has
-// them off. Broken variant: the advice not given (march-no-huge-pages).
+// "always"): lee-flat's 1280x720 colour image (10.5 MiB) starts on a 2 MiB boundary, so that no unaligned head is
+// left on 4 KiB pages, and the mapping holding it has at least two huge pages (smaps' AnonHugePages) right after it
+// was made. The huge pages are skipped where the kernel has them off. Broken variants: the advice not given
+// (march-no-huge-pages); the block aligned to a cache line only (march-pixels-unaligned).
 TEST(Render, ALargeImageLiesOnHugePages) {
+  const Image image(1280, 720, 3);
+  const auto start = reinterpret_cast<std::uintptr_t>(image.pixels.data());
+  EXPECT_EQ(start % (std::uintptr_t(2) << 20), 0u);
   std::ifstream mode_file("/sys/kernel/mm/transparent_hugepage/enabled");
   const std::string mode((std::istreambuf_iterator<char>(mode_file)), {});
   if (mode.find("[never]") != std::string::npos || mode.empty()) GTEST_SKIP() << "transparent huge pages are off";
-  const Image image(1280, 720, 3);
-  // Its middle: the advice splits off the unaligned head of the mapping, which stays on 4 KiB pages.
-  const auto at = reinterpret_cast<std::uintptr_t>(image.pixels.data() + image.pixels.size() / 2);
+  const auto at = start + image.pixels.size() * sizeof(float) / 2;
   std::ifstream smaps("/proc/self/smaps");
   long huge_kib = -1;
   bool inside = false;
