@@ -144,6 +144,18 @@ struct Context {
 template <class T>
 using Vec = glm::vec<3, T>;
 
+// Room for a tile's worth of an aggregate that a packet call writes whole (RayRecord, NormalResult): left unset,
+// where an array of them would first set every member to its default.
+template <class R>
+class Unset {
+ public:
+  R* data() { return std::launder(reinterpret_cast<R*>(bytes_)); }
+  R& operator[](int i) { return data()[i]; }
+
+ private:
+  alignas(R) unsigned char bytes_[sizeof(R) * kTile * kTile];
+};
+
 template <class T>
 struct Surface {
   Vec<T> point{0}, normal{0};
@@ -538,11 +550,11 @@ class TileRenderer {
   // seed's does at the depth buffer's distance.
   void marched_surfaces() {
     PacketRay<T> rays[kTile * kTile];
-    RayRecord<T> records[kTile * kTile];
+    Unset<RayRecord<T>> records;
     each([&](PixelState& p, int, int) {
       rays[index(p)] = {p.origin, p.direction, p.mesh.hit ? p.mesh.t : s_.max_dist};
     });
-    march_packet(ctx_.tape, rays, records, pixels_, s_, ctx_.march);
+    march_packet(ctx_.tape, rays, records.data(), pixels_, s_, ctx_.march);
     stage(kMarch, [&](PixelState& p, int, int) {
       const RayRecord<T>& marched = records[index(p)];
       p.on_mesh = p.mesh.hit && marched.outcome != Outcome::hit;
@@ -594,7 +606,7 @@ class TileRenderer {
     V points[kTile * kTile] = {};
     T eps[kTile * kTile] = {};
     int which[kTile * kTile];
-    NormalResult<T> normals[kTile * kTile];
+    Unset<NormalResult<T>> normals;
     int count = 0;
     each([&](PixelState& p, int, int) {
       if (!p.hit) return;
@@ -602,7 +614,7 @@ class TileRenderer {
       eps[count] = normal_epsilon(s_, p.record.t);
       which[count++] = index(p);
     });
-    central_normals_packet(ctx_.tape, points, eps, normals, count);
+    central_normals_packet(ctx_.tape, points, eps, normals.data(), count);
     for (int i = 0; i < count; ++i) {
       auto& p = px_[static_cast<size_t>(which[i])];
       p.normal = normals[i].n;
@@ -648,7 +660,7 @@ class TileRenderer {
     }
     PacketRay<T> rays[kTile * kTile];
     ShadowStart<T> starts[kTile * kTile];
-    RayRecord<T> records[kTile * kTile];
+    Unset<RayRecord<T>> records;
     int which[kTile * kTile];
     for (size_t li = 0; li < lights_; ++li) {
       const auto& light = ctx_.scene.lights[li];
@@ -661,7 +673,7 @@ class TileRenderer {
         rays[count] = {starts[count].origin, to_light, starts[count].max_dist};
         which[count++] = index(p);
       });
-      march_packet(ctx_.tape, rays, records, count, s_, ctx_.march);
+      march_packet(ctx_.tape, rays, records.data(), count, s_, ctx_.march);
       for (int i = 0; i < count; ++i) {
         auto& p = px_[static_cast<size_t>(which[i])];
         visibility(p)[li] = hard_visibility(records[i], starts[i], light);
