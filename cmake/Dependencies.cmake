@@ -6,6 +6,7 @@ find_package(fmt 9 CONFIG REQUIRED)
 find_package(TBB CONFIG REQUIRED)
 find_package(OpenImageIO 2.4 CONFIG REQUIRED)
 find_package(PNG REQUIRED)  # the PNGs renders write, without loading OpenImageIO
+find_package(ZLIB REQUIRED)  # their rows deflated in pieces on every core
 find_package(embree 3 CONFIG REQUIRED)  # target: embree
 
 # OIIO's exported targets name /usr/include/opencv4, which Debian does not ship without libopencv-dev.

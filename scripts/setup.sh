@@ -6,6 +6,7 @@ packages=(
   libglm-dev libboost-dev libcgal-dev libopenmesh-dev libgtest-dev libgmock-dev libbenchmark-dev
   libopenimageio-dev openimageio-tools libtbb-dev libembree-dev  # OIIO's CMake package checks its tools exist
   libpng-dev  # the PNGs renders write, without loading OpenImageIO
+  zlib1g-dev  # their rows deflated in pieces on every core
   libsleef-dev  # the march's float transcendentals, vectorised in the batched tape
   nlohmann-json3-dev libcli11-dev libfmt-dev
   glslang-dev glslang-tools spirv-tools spirv-headers  # GLSL fields; the glslang CMake package checks its tools

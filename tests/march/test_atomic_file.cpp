@@ -166,6 +166,25 @@ TEST_F(AtomicFile, APngHoldsTheEightBitBytesAndItsTransfer) {
     }
 }
 
+// A PNG larger than one piece of the parallel deflate (about 128 KiB of filtered rows) reads back whole: 640x240 RGB
+// (461 KiB, four pieces) and RGBA, with samples that wrap around in the Sub filter. Broken variants: every piece
+// ended as the last (march-png-every-piece-final: a reader stops after the first), the pieces' checksums not
+// combined (march-png-adler-of-last-piece), the Sub filter one sample off (march-png-sub-filter-offset).
+TEST_F(AtomicFile, APngOfManyDeflatePiecesReadsBackWhole) {
+  for (const int channels : {3, 4}) {
+    Image image(640, 240, channels);
+    std::uint32_t state = 12345;
+    for (float& v : image.pixels) {
+      state = state * 1664525u + 1013904223u;  // a linear congruential sequence: any sample next to any other
+      v = static_cast<float>(state >> 8) / static_cast<float>(1u << 24);
+    }
+    write_image(image, path("big.png"), false);
+    const ReadPng back = read_png(path("big.png"));
+    EXPECT_EQ(back.channels, channels);
+    EXPECT_TRUE(back.samples == to_8bit(image, false)) << channels << " channels: " << back.samples.size() << " samples read";
+  }
+}
+
 // to_8bit rounds v * 255 as std::lround does (halves up), on the values where a shortcut would differ: each level's
 // half-way point and its neighbouring floats, and the float just below 0.5 / 255 (0.49999997f + 0.5f is 1 in
 // float). Broken variant: the rounding done in float (march-8bit-rounding-in-float).
