@@ -9,9 +9,13 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 
 namespace marchcheck::march {
@@ -203,6 +207,37 @@ TEST(EightBit, RoundsAsLroundAtEveryHalfWayPoint) {
   for (size_t i = 0; i < bytes.size(); ++i) differ += bytes[i] != std::lround(image.pixels[i] * 255.0f);
   EXPECT_EQ(differ, 0) << "of " << bytes.size();
   EXPECT_EQ(bytes.back(), 0);
+}
+
+// to_8bit's sRGB byte is the curve's, rounded, for every float from 4096 below the curve's power part to 4096 above 1
+// (71 million: the part of [0, 1] where to_8bit reads the bytes from a table, which assumes they never fall as the
+// value rises; this is where that is checked), and for NaN, infinities, negatives and denormals. Broken variant:
+// each byte's first float given the byte below (march-srgb-step-one-late).
+TEST(EightBit, SrgbBytesAreTheCurvesForEveryFloatOfItsPowerPart) {
+  const auto curve = [](float value) {
+    const float c = std::isnan(value) ? 0.0f : std::clamp(value, 0.0f, 1.0f);
+    const float v = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+    return static_cast<unsigned char>(std::floor(static_cast<double>(v * 255.0f) + 0.5));
+  };
+  const std::uint32_t low = std::bit_cast<std::uint32_t>(0.0031308f) - 4096, high = std::bit_cast<std::uint32_t>(1.0f) + 4096;
+  constexpr std::uint32_t kChunk = 1u << 22;
+  Image image(static_cast<int>(kChunk), 1, 1);
+  size_t checked = 0, differ = 0;
+  for (std::uint32_t first = low; first < high; first += kChunk) {
+    const std::uint32_t n = std::min(kChunk, high - first);
+    image.width = static_cast<int>(n);
+    image.pixels.resize(n);
+    for (std::uint32_t i = 0; i < n; ++i) image.pixels[i] = std::bit_cast<float>(first + i);
+    const std::vector<unsigned char> bytes = to_8bit(image, true);
+    for (std::uint32_t i = 0; i < n; ++i) differ += bytes[i] != curve(image.pixels[i]);
+    checked += n;
+  }
+  EXPECT_EQ(differ, 0u) << "of " << checked;
+  const float inf = std::numeric_limits<float>::infinity();
+  Image special(8, 1, 1);
+  special.pixels = {std::nanf(""), -inf, inf, -0.0f, -1.0f, 2.0f, std::numeric_limits<float>::denorm_min(), 0.0031308f};
+  const std::vector<unsigned char> bytes = to_8bit(special, true);
+  for (size_t i = 0; i < bytes.size(); ++i) EXPECT_EQ(bytes[i], curve(special.pixels[i])) << special.pixels[i];
 }
 
 // OpenImageIO is loaded where it is used, not by every command (Debian's build brings ~260 libraries, 160 ms): a
