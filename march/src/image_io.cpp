@@ -99,15 +99,19 @@ std::vector<unsigned char> to_8bit(const Image& image, bool srgb) {
   // On every core, in blocks of 64 Ki samples: lee-flat's 1280x720 took one thread 5 ms raw. Through plain
   // pointers: a store through unsigned char may alias the vectors' own pointers, which the loop would then reload
   // at every sample.
-  static const SrgbBytes srgb_bytes;
   const float* values = image.pixels.data();
   unsigned char* out = bytes.data();
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, bytes.size(), size_t(1) << 16), [=](const auto& block) {
-    if (srgb)
-      for (size_t i = block.begin(); i < block.end(); ++i) out[i] = srgb_bytes(values[i]);
-    else
-      for (size_t i = block.begin(); i < block.end(); ++i) out[i] = eight_bit(values[i], false);
-  });
+  const auto convert = [&](auto byte_of) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, bytes.size(), size_t(1) << 16), [=](const auto& block) {
+      for (size_t i = block.begin(); i < block.end(); ++i) out[i] = byte_of(values[i]);
+    });
+  };
+  if (srgb) {
+    static const SrgbBytes curve;  // built by the first sRGB image, not by every process that writes one
+    convert([](float value) { return curve(value); });
+  } else {
+    convert([](float value) { return eight_bit(value, false); });
+  }
   return bytes;
 }
 
