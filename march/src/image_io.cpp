@@ -1,6 +1,5 @@
 #include "marchcheck/march/render.hpp"
 
-#include "huge_pages.hpp"
 #include "image_module.hpp"
 #include "marchcheck/files/atomic_file.hpp"
 
@@ -91,11 +90,8 @@ std::string base_of(const std::string& path) {
 
 }  // namespace
 
-std::vector<unsigned char> to_8bit(const Image& image, bool srgb) {
-  std::vector<unsigned char> bytes;
-  bytes.reserve(image.pixels.size());
-  advise_huge_pages(bytes.data(), image.pixels.size());
-  bytes.resize(image.pixels.size());
+Bytes to_8bit(const Image& image, bool srgb) {
+  Bytes bytes(image.pixels.size());
   // On every core, in blocks of 64 Ki samples: lee-flat's 1280x720 took one thread 5 ms raw. Through plain
   // pointers: a store through unsigned char may alias the vectors' own pointers, which the loop would then reload
   // at every sample.
@@ -124,7 +120,7 @@ namespace {
 // files came out smaller than libpng's one stream (which uses zlib's Z_FILTERED strategy; these the default one):
 // lee-flat 1280x720 150.1 -> 148.7 KB, crum-torus 48.2 -> 45.9 KB; lee-flat's whole command about 7 ms faster on 2
 // cores (20 runs each).
-std::vector<unsigned char> deflated_rows(const std::vector<unsigned char>& bytes, size_t row, int rows, int pixel,
+std::vector<unsigned char> deflated_rows(const Bytes& bytes, size_t row, int rows, int pixel,
                                          const std::string& path) {
   constexpr size_t kPiece = 128 << 10;  // filtered bytes a piece, about: small images are one piece
   const int rows_per_piece = static_cast<int>(std::max<size_t>(1, kPiece / (row + 1)));
@@ -177,7 +173,7 @@ std::vector<unsigned char> deflated_rows(const std::vector<unsigned char>& bytes
 // 8-bit PNG in memory through libpng: grey, grey and alpha, RGB or RGBA by the channel count; the transfer in a
 // tEXt chunk (marchcheck:transfer) and, for sRGB, the sRGB chunk. Raw values get no gAMA 1.0, which would have a
 // browser brighten them: they are what a shader's framebuffer shows as they are.
-std::vector<unsigned char> encode_png(const Image& image, const std::string& path, const std::vector<unsigned char>& bytes,
+std::vector<unsigned char> encode_png(const Image& image, const std::string& path, const Bytes& bytes,
                                       bool srgb) {
   static constexpr int kColorType[5] = {-1, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
                                         PNG_COLOR_TYPE_RGBA};
@@ -229,7 +225,7 @@ std::vector<unsigned char> encode_png(const Image& image, const std::string& pat
 void write_image(const Image& image, const std::string& path, bool srgb) {
   const std::string format = format_of(path);
   const bool as_float = is_float_format(format);
-  const std::vector<unsigned char> bytes = as_float ? std::vector<unsigned char>{} : to_8bit(image, srgb);
+  const Bytes bytes = as_float ? Bytes{} : to_8bit(image, srgb);
   const std::vector<unsigned char> encoded =
       format == ".png" ? encode_png(image, path, bytes, srgb) : image_module().encode(image, path, as_float, bytes, srgb);
   files::write_bytes_atomically(path, {reinterpret_cast<const char*>(encoded.data()), encoded.size()});

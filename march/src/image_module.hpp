@@ -16,7 +16,7 @@ struct ImageModule {
   // The image encoded as path's extension says (EXR, TIFF, JPEG, ...): floats for a float format, else `bytes`
   // (to_8bit's); srgb labels an 8-bit image's colour space. Throws std::runtime_error saying why it cannot.
   std::vector<unsigned char> (*encode)(const Image& image, const std::string& path, bool as_float,
-                                       const std::vector<unsigned char>& bytes, bool srgb);
+                                       const Bytes& bytes, bool srgb);
   // Bilinear lookup, wrapping periodically, without MIP maps, at (s, t) in [0, 1): rgb (a grey image gives grey).
   void (*sample)(const std::string& path, float s, float t, float* rgb);
   // Why OpenImageIO cannot read path as an image; "" when it can.

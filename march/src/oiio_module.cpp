@@ -11,7 +11,7 @@ namespace marchcheck::march {
 namespace {
 
 std::vector<unsigned char> encode(const Image& image, const std::string& path, bool as_float,
-                                  const std::vector<unsigned char>& bytes, bool srgb) {
+                                  const Bytes& bytes, bool srgb) {
   // Encoded in memory and written by write_bytes_atomically: OIIO's writers report no failed write (a disk that
   // fills up), and would leave a truncated image in place.
   auto out = OIIO::ImageOutput::create(path);

@@ -119,7 +119,7 @@ TEST_F(AtomicFile, AFailedImageWriteKeepsThePreviousImage) {
 
 // A PNG as libpng reads it back: its 8-bit samples, channel count, transfer text and whether it has an sRGB chunk.
 struct ReadPng {
-  std::vector<unsigned char> samples;
+  Bytes samples;
   int channels = 0;
   std::string transfer;
   bool srgb_chunk = false;
@@ -201,7 +201,7 @@ TEST(EightBit, RoundsAsLroundAtEveryHalfWayPoint) {
   }
   image.pixels.push_back(std::nextafter(0.5f, 0.0f) / 255.0f);
   image.width = static_cast<int>(image.pixels.size());
-  const std::vector<unsigned char> bytes = to_8bit(image, false);
+  const Bytes bytes = to_8bit(image, false);
   ASSERT_EQ(bytes.size(), image.pixels.size());
   int differ = 0;
   for (size_t i = 0; i < bytes.size(); ++i) differ += bytes[i] != std::lround(image.pixels[i] * 255.0f);
@@ -228,7 +228,7 @@ TEST(EightBit, SrgbBytesAreTheCurvesForEveryFloatOfItsPowerPart) {
     image.width = static_cast<int>(n);
     image.pixels.resize(n);
     for (std::uint32_t i = 0; i < n; ++i) image.pixels[i] = std::bit_cast<float>(first + i);
-    const std::vector<unsigned char> bytes = to_8bit(image, true);
+    const Bytes bytes = to_8bit(image, true);
     for (std::uint32_t i = 0; i < n; ++i) differ += bytes[i] != curve(image.pixels[i]);
     checked += n;
   }
@@ -236,7 +236,7 @@ TEST(EightBit, SrgbBytesAreTheCurvesForEveryFloatOfItsPowerPart) {
   const float inf = std::numeric_limits<float>::infinity();
   Image special(8, 1, 1);
   special.pixels = {std::nanf(""), -inf, inf, -0.0f, -1.0f, 2.0f, std::numeric_limits<float>::denorm_min(), 0.0031308f};
-  const std::vector<unsigned char> bytes = to_8bit(special, true);
+  const Bytes bytes = to_8bit(special, true);
   for (size_t i = 0; i < bytes.size(); ++i) EXPECT_EQ(bytes[i], curve(special.pixels[i])) << special.pixels[i];
 }
 

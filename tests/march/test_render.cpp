@@ -165,7 +165,7 @@ TEST_P(EveryBuiltin, FloatShadingDrawsTheDoubleShadedEightBitImage) {
   const RenderResult single = render(scene, {}, nullptr, Images::asked, ShadePrecision::float32);
   const RenderResult dual = render(scene, {}, nullptr, Images::asked, ShadePrecision::float64);
   EXPECT_EQ(single.total_evals, dual.total_evals);
-  const std::vector<unsigned char> a = to_8bit(single.color), b = to_8bit(dual.color);
+  const Bytes a = to_8bit(single.color), b = to_8bit(dual.color);
   ASSERT_EQ(a.size(), b.size());
   int moved = 0, most = 0;
   for (size_t i = 0; i < a.size(); ++i) {

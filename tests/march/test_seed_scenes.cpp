@@ -348,8 +348,8 @@ TEST(SeedScenes, LeesShadedMissIsNaNWrittenBlack) {
   EXPECT_EQ(nan, misses);
   EXPECT_EQ(other, 0);
   Image one(1, 1, 3, std::numeric_limits<float>::quiet_NaN());
-  EXPECT_EQ(to_8bit(one, false), (std::vector<unsigned char>{0, 0, 0}));
-  EXPECT_EQ(to_8bit(one, true), (std::vector<unsigned char>{0, 0, 0}));
+  EXPECT_EQ(to_8bit(one, false), (Bytes{0, 0, 0}));
+  EXPECT_EQ(to_8bit(one, true), (Bytes{0, 0, 0}));
   // Its error (validate's difference image holds +inf there) shows at the top of the heat map, not the bottom.
   const Image infinite(1, 1, 1, std::numeric_limits<float>::infinity());
   EXPECT_EQ(pixel(heat_map(infinite, kErrorHeatMapMax), 0, 0), (std::array<float, 3>{0.98f, 0.98f, 0.65f}));
@@ -384,8 +384,8 @@ TEST(SeedScenes, SeedsWriteTheirValuesAsTheyAre) {
   EXPECT_EQ(r.transfer, sdf::OutputTransfer::linear);
   Image corner(1, 1, 3);
   std::copy_n(r.color.at(0, 0), 3, corner.at(0, 0));
-  EXPECT_EQ(to_8bit(corner, r.transfer == sdf::OutputTransfer::srgb), (std::vector<unsigned char>{179, 179, 179}));
-  EXPECT_EQ(to_8bit(corner, true), (std::vector<unsigned char>{218, 218, 218}));
+  EXPECT_EQ(to_8bit(corner, r.transfer == sdf::OutputTransfer::srgb), (Bytes{179, 179, 179}));
+  EXPECT_EQ(to_8bit(corner, true), (Bytes{218, 218, 218}));
 }
 
 }  // namespace
