@@ -426,8 +426,6 @@ class TileRenderer {
         counters_(counters), tracer_{ctx, counters}, x0_(x0), y0_(y0), x1_(std::min(x0 + kTile, out.color.width)),
         y1_(std::min(y0 + kTile, out.color.height)), w_(x1_ - x0_), pixels_(w_ * (y1_ - y0_)),
         per_pixel_cost_(!out.evals.pixels.empty() || !out.stage_evals.pixels.empty()),
-        more_images_(per_pixel_cost_ || !out.depth.pixels.empty() || !out.normal.pixels.empty() ||
-                     !out.steps.pixels.empty() || !out.id.pixels.empty() || !out.outcome.pixels.empty()),
         lights_(ctx.scene.lights.size()) {
     if (per_pixel_cost_) cost_.fill({});
   }
@@ -783,7 +781,6 @@ class TileRenderer {
     float* c = out_.color.at(x, y);
     for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(color[i]);
     counters_.steps_max = std::max(counters_.steps_max, p.record.steps);
-    if (!more_images_) return;
     if (!out_.depth.pixels.empty()) *out_.depth.at(x, y) = surface(p) ? static_cast<float>(p.record.t) : INFINITY;
     if (!out_.normal.pixels.empty()) {
       float* n = out_.normal.at(x, y);
@@ -807,7 +804,6 @@ class TileRenderer {
   Tracer<T> tracer_;
   const int x0_, y0_, x1_, y1_, w_, pixels_;
   const bool per_pixel_cost_;
-  const bool more_images_;  // any image besides the colour: write's per-image tests are skipped when none is
   const size_t lights_;
   std::array<PixelState, kTile * kTile> px_;
   Ray rays_[kTile * kTile];

@@ -10,6 +10,7 @@
 #include "marchcheck/sdf/builtin_scenes.hpp"
 #include "marchcheck/sdf/glsl_export.hpp"
 #include "marchcheck/sdf/glsl_field.hpp"
+#include "srgb.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -25,10 +26,7 @@
 namespace marchcheck {
 namespace {
 
-float to_srgb(float linear) {
-  const float c = std::clamp(linear, 0.0f, 1.0f);
-  return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-}
+using testing::to_srgb;
 
 // The fractions of pixels where the export rendered on the driver and marchcheck's render differ by more than
 // `levels` (0 to 1 as written: sRGB, or the values as they are), one for each.

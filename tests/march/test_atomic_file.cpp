@@ -2,6 +2,7 @@
 #include "marchcheck/files/atomic_file.hpp"
 #include "marchcheck/march/render.hpp"
 #include "file_size_limit.hpp"
+#include "srgb.hpp"
 
 #include <gtest/gtest.h>
 
@@ -215,8 +216,7 @@ TEST(EightBit, RoundsAsLroundAtEveryHalfWayPoint) {
 // each byte's first float given the byte below (march-srgb-step-one-late).
 TEST(EightBit, SrgbBytesAreTheCurvesForEveryFloatOfItsPowerPart) {
   const auto curve = [](float value) {
-    const float c = std::isnan(value) ? 0.0f : std::clamp(value, 0.0f, 1.0f);
-    const float v = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+    const float v = marchcheck::testing::to_srgb(std::isnan(value) ? 0.0f : value);
     return static_cast<unsigned char>(std::floor(static_cast<double>(v * 255.0f) + 0.5));
   };
   const std::uint32_t low = std::bit_cast<std::uint32_t>(0.0031308f) - 4096, high = std::bit_cast<std::uint32_t>(1.0f) + 4096;
