@@ -55,6 +55,16 @@ TEST(Render, JoinRenderWorkersLeavesTheProcessOneThread) {
   EXPECT_GT(render(small("lee-flat", 8, 4)).total_evals, 0) << "a render after the join starts workers anew";
 }
 
+// An image made with a fill value holds it in every sample, below 2 MiB (the plain allocation) and above (the
+// aligned one). Broken variant: the value ignored, every sample 0 (march-image-fill-ignored).
+TEST(Render, AnImageIsFilledWithItsValue) {
+  for (const int width : {4, 1280}) {
+    const Image image(width, 720, 3, 0.25f);
+    EXPECT_EQ(std::count(image.pixels.begin(), image.pixels.end(), 0.25f), static_cast<long>(image.pixels.size()))
+        << width << "x720";
+  }
+}
+
 // A large image lies on 2 MiB pages where the kernel allows them on request (transparent huge pages "madvise" or
 // "always"): lee-flat's 1280x720 colour image (10.5 MiB) starts on a 2 MiB boundary, so that no unaligned head is
 // left on 4 KiB pages, and the mapping holding it has at least two huge pages (smaps' AnonHugePages) right after it
