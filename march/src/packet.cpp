@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <type_traits>
 #include <limits>
 
@@ -50,145 +51,209 @@ struct SecantRoots {
 
 constexpr int kRunning = -1;  // else the Outcome
 
-// The part of a step every rule shares, detail::Tracker::saw and end: lane i saw v at t and wants `code` (already
-// kRunning, or how it ends). A lane that had ended keeps its code; its code, steps and last f change only when it
-// ends (so compaction need not move them for running lanes). Returns whether lane i was running.
-// Every array is stored whole, a blend of its old and new values, the new values computed first: GCC turns
-// `a[i] = c ? x : a[i]` into a masked store skipped when no lane changes, a branch as unpredictable as a lane's end.
+// The feeds below run on whole vectors of lanes, written with GCC's vector extension (the target's widest vector:
+// 16 floats on AVX-512) rather than left to the loop vectoriser: every select is a blend and every store a whole
+// store. The vectoriser had turned the relaxed marcher's selects into branches around masked stores (its feed cost
+// twice the sphere's per lane) and left the fixed marcher's half as fast. A lane's arithmetic is the scalar
+// marchers', one IEEE operation for one, so the lanes stay bit-identical to them.
+#if defined(__AVX512F__)
+constexpr int kVectorBytes = 64;
+#elif defined(__AVX__)
+constexpr int kVectorBytes = 32;
+#else
+constexpr int kVectorBytes = 16;
+#endif
 template <class T>
-inline bool settle(Lanes<T>& l, int i, Int<T>& code, T v, T t, T a, Int<T> steps) {
-  const Int<T> old = l.code[i], old_steps = l.steps[i];
-  const T old_min = l.min_abs[i], old_t_at_min = l.t_at_min[i], old_last = l.last_f[i];
-  const bool live = old == kRunning;
-  const bool better = live && a < old_min;
+struct Simd;
+template <>
+struct Simd<float> {
+  typedef float V __attribute__((vector_size(kVectorBytes)));
+  typedef std::int32_t I __attribute__((vector_size(kVectorBytes)));  // a comparison's lanes: -1 true, 0 false
+};
+template <>
+struct Simd<double> {
+  typedef double V __attribute__((vector_size(kVectorBytes)));
+  typedef std::int64_t I __attribute__((vector_size(kVectorBytes)));
+};
+template <class T>
+constexpr int kWidth = kVectorBytes / static_cast<int>(sizeof(T));  // lanes per vector; kMaxPacket is a multiple
+
+template <class A, class E>
+A load(const E* at) {
+  A a;
+  std::memcpy(&a, at, sizeof a);
+  return a;
+}
+template <class A, class E>
+void store(E* at, A a) {
+  std::memcpy(at, &a, sizeof a);
+}
+// |v| as std::abs: the sign bit cleared (-0 gives +0, NaN stays NaN).
+template <class T>
+typename Simd<T>::V abs_lanes(typename Simd<T>::V v) {
+  using I = typename Simd<T>::I;
+  const I magnitude = I{} + std::numeric_limits<Int<T>>::max();
+  return reinterpret_cast<typename Simd<T>::V>(reinterpret_cast<I>(v) & magnitude);
+}
+
+// The part of a step every rule shares, detail::Tracker::saw and end, for the kWidth lanes from i: they saw v at t
+// and want `code` (already kRunning, or how they end). A lane that had ended keeps its code; its code, steps and
+// last f change only when it ends (so compaction need not move them for running lanes). Returns which lanes were
+// running.
+template <class T>
+typename Simd<T>::I settle(Lanes<T>& l, int i, typename Simd<T>::I& code, typename Simd<T>::V v,
+                           typename Simd<T>::V t, typename Simd<T>::V a, Int<T> step) {
+  using V = typename Simd<T>::V;
+  using I = typename Simd<T>::I;
+  const I old = load<I>(l.code + i), old_steps = load<I>(l.steps + i);
+  const V old_min = load<V>(l.min_abs + i), old_t_at_min = load<V>(l.t_at_min + i), old_last = load<V>(l.last_f + i);
+  const I live = old == kRunning;
+  const I better = live & (a < old_min);
   code = live ? code : old;
-  const bool ends = code != old;
-  const T t_at_min = better ? t : old_t_at_min, min_abs = better ? a : old_min, last = ends ? v : old_last;
-  const Int<T> steps_now = ends ? steps : old_steps;
-  l.t_at_min[i] = t_at_min;
-  l.min_abs[i] = min_abs;
-  l.steps[i] = steps_now;
-  l.last_f[i] = last;
-  l.code[i] = code;
+  const I ends = code != old;
+  store(l.t_at_min + i, better ? t : old_t_at_min);
+  store(l.min_abs + i, better ? a : old_min);
+  store(l.steps + i, ends ? I{} + step : old_steps);
+  store(l.last_f + i, ends ? v : old_last);
+  store(l.code + i, code);
   return live;
+}
+
+// The lanes from 0 to count, rounded up to whole vectors: those past count are stale copies or padding, computed
+// and stored like the rest but never read. A vector's lane numbers, 0 to kWidth - 1: lanes_from_i < count - i
+// keeps those past count out of the count of running lanes.
+template <class T>
+typename Simd<T>::I lane_numbers() {
+  typename Simd<T>::I index;
+  for (int k = 0; k < kWidth<T>; ++k) index[k] = k;
+  return index;
+}
+template <class T>
+int count_running(typename Simd<T>::I running) {
+  Int<T> sum = 0;
+  for (int k = 0; k < kWidth<T>; ++k) sum -= running[k];  // -1 a running lane
+  return static_cast<int>(sum);
 }
 
 // SphereTrace::feed for every lane at once (Relaxed: with its over-relaxation and step back, else omega = 1;
 // Secant: keeping the samples a hit's secant root is taken from); the same expressions in the same order. All
 // lanes of a packet start together, so a running lane's step count is the packet's: `step` (this evaluation's
-// number). Every lane loads and computes every outcome, then selects (`&`, not `&&`): a load or an addition made
-// conditional does not vectorise. Returns the number of lanes still running.
+// number). Every lane computes every outcome, then selects. Returns the number of lanes still running.
 // Perturbed: the rule has a perturbation's width; without one (+inf), its step and radii are the plain terms, bit
 // for bit, and the lanes skip the perturbed terms (the relaxed marcher takes four steps' worth a lane: half its
 // arithmetic).
 template <bool First, bool Relaxed, bool Secant, bool Perturbed, class T>
 int feed_lanes(Lanes<T>& l, int count, int step, const StepRule<T> rule, T eps_at_0, T eps_slope, int max_steps) {
-  using I = Int<T>;
-  const auto step_of = [&rule](T v, T omega) {
-    if constexpr (Perturbed) return rule.step(v, omega);
-    else return rule.plain_step(v, omega);
+  using V = typename Simd<T>::V;
+  using I = typename Simd<T>::I;
+  const auto step_of = [&rule](V v, V omega) {
+    if constexpr (Perturbed) return rule.template step<V>(v, omega);
+    else return rule.template plain_step<V>(v, omega);
   };
-  const auto radii = [&rule](T a, T b) {
-    if constexpr (Perturbed) return rule.radii(a, b);
-    else return rule.plain_radii(a, b);
+  const auto radii = [&rule](V a, V b) {
+    if constexpr (Perturbed) return rule.template radii<V>(a, b);
+    else return rule.template plain_radii<V>(a, b);
   };
+  const V one = V{} + T(1);
   const T largest = std::numeric_limits<T>::max();
-  const I running = kRunning, miss_far = I(Outcome::miss_far), hit = I(Outcome::hit), inside = I(Outcome::inside),
-          invalid = I(Outcome::invalid);
-  const I out_of_steps = step >= max_steps ? I(Outcome::miss_steps) : running;
-  I still = 0;
-  for (int i = 0; i < count; ++i) {
-    const T v = l.f[i], t = l.t[i], a = std::abs(v);
-    const T eps = eps_at_0 + eps_slope * t;  // hit_threshold: each mode is a + b t with an exact zero term
-    bool back = false;
-    T forward_step = step_of(v, T(1)), next = t + forward_step;
-    T prev_t = 0, prev_f = 0, omega = 1;
+  const I running = I{} + kRunning, miss_far = I{} + Int<T>(Outcome::miss_far), hit = I{} + Int<T>(Outcome::hit),
+          inside = I{} + Int<T>(Outcome::inside), invalid = I{} + Int<T>(Outcome::invalid);
+  const I out_of_steps = step >= max_steps ? I{} + Int<T>(Outcome::miss_steps) : running;
+  const I lane = lane_numbers<T>();
+  I still{};
+  for (int i = 0; i < count; i += kWidth<T>) {
+    const V v = load<V>(l.f + i), t = load<V>(l.t + i), a = abs_lanes<T>(v);
+    const V eps = eps_at_0 + eps_slope * t;  // hit_threshold: each mode is a + b t with an exact zero term
+    I back{};
+    V next = t + step_of(v, one);
+    V prev_t{}, prev_f{}, omega = one;
     if constexpr (Relaxed || Secant) {
-      prev_t = l.prev_t[i];
-      prev_f = l.prev_f[i];
+      prev_t = load<V>(l.prev_t + i);
+      prev_f = load<V>(l.prev_f + i);
     }
     if constexpr (Relaxed) {
       // Where the two unbounding spheres do not overlap, back to the last forward step's start, then omega 1.
       // The last step's length, SphereTrace's prev_step, is rule.step(prev_f, omega) bit for bit: a forward step
       // is rule.step(v, omega) with omega unchanged, a step back rule.step(prev_f, 1) with omega 1 from then on.
-      omega = l.omega[i];
-      const T reach = radii(a, prev_f), prev_step = step_of(prev_f, omega),
-              back_to = prev_t + step_of(prev_f, T(1));
-      back = (omega > T(1)) & (reach < prev_step);
-      forward_step = step_of(v, omega);
-      const T ahead = t + forward_step;
+      omega = load<V>(l.omega + i);
+      const V reach = radii(a, prev_f), prev_step = step_of(prev_f, omega), back_to = prev_t + step_of(prev_f, one);
+      back = (omega > one) & (reach < prev_step);
+      const V ahead = t + step_of(v, omega);
       next = back ? back_to : ahead;
     }
     // As SphereTrace: past max_dist where a plain step passes it too (an over-relaxed one may yet step back).
-    // One select per condition: the three combined in one condition kept GCC from vectorising the loop.
-    const T plain_reach = t + step_of(v, T(1));
-    const T md = l.max_dist[i];
+    const V plain_reach = t + step_of(v, one);
+    const V md = load<V>(l.max_dist + i);
     I code = out_of_steps;
     code = next > md ? miss_far : code;
     code = plain_reach > md ? code : out_of_steps;
     code = back ? out_of_steps : code;
     const I moved = code;  // t moves on unless the step below ends the ray where it is
-    code = !back && v < eps ? hit : code;
+    code = (~back & (v < eps)) ? hit : code;
     if constexpr (First) code = v < -eps ? inside : code;
     code = a <= largest ? code : invalid;  // not finite
-    const bool live = settle(l, i, code, v, t, a, I(step));
-    const T t_next = live && code == moved ? next : t;
-    l.t[i] = t_next;
+    const I live = settle(l, i, code, v, t, a, Int<T>(step));
+    const I forward = live & (code == moved);  // t moves on: the step taken (or the step back)
+    store(l.t + i, forward ? next : t);
     if constexpr (Relaxed || Secant) {
-      const bool forward = live && code == moved && !back;  // a step taken: the next one's fallback
-      if constexpr (Relaxed) l.omega[i] = back ? T(1) : omega;
-      l.prev_t[i] = forward ? t : prev_t;
-      l.prev_f[i] = forward ? v : prev_f;
+      const I stepped = forward & ~back;  // a forward step: the next one's fallback
+      if constexpr (Relaxed) store(l.omega + i, back ? one : omega);
+      store(l.prev_t + i, stepped ? t : prev_t);
+      store(l.prev_f + i, stepped ? v : prev_f);
     }
-    still += code == running;
+    still += (code == running) & (lane < count - i);
   }
-  return static_cast<int>(still);
+  return count_running<T>(still);
 }
 
 // FixedTrace::feed for every lane at once: steps of fixed_step; a step that lands inside (f below -threshold)
 // bisects the bracket from the previous point until |f| is below the threshold at its midpoint or the bracket
 // cannot shrink. The same expressions as FixedTrace. While stepping, lo is FixedTrace's prev_t, so that a step
 // that lands inside updates the bracket as a bisection does (v < -threshold <= 0: t becomes hi) and one rule
-// serves both: every select has one condition (GCC vectorises no select nested in another's arm).
+// serves both.
 template <bool First, class T>
 int feed_fixed_lanes(Lanes<T>& l, int count, int step, T fixed_step, T eps_at_0, T eps_slope, int max_steps) {
-  using I = Int<T>;
+  using V = typename Simd<T>::V;
+  using I = typename Simd<T>::I;
   const T largest = std::numeric_limits<T>::max();
-  const I running = kRunning, miss_far = I(Outcome::miss_far), hit = I(Outcome::hit), inside = I(Outcome::inside),
-          invalid = I(Outcome::invalid);
+  const I running = I{} + kRunning, miss_far = I{} + Int<T>(Outcome::miss_far), hit = I{} + Int<T>(Outcome::hit),
+          inside = I{} + Int<T>(Outcome::inside), invalid = I{} + Int<T>(Outcome::invalid);
   const bool last_step = step >= max_steps;
-  const I out_of_steps = last_step ? I(Outcome::miss_steps) : running;
-  I still = 0;
-  for (int i = 0; i < count; ++i) {
-    const T v = l.f[i], t = l.t[i], a = std::abs(v), lo = l.lo[i], hi = l.hi[i];
-    const T eps = eps_at_0 + eps_slope * t;  // hit_threshold at the point evaluated, a step's or a midpoint
-    const bool bisecting = l.bisecting[i] != 0, finite = a <= largest;
+  const I out_of_steps = last_step ? I{} + Int<T>(Outcome::miss_steps) : running;
+  const I at_last_step = I{} - Int<T>(last_step), first = I{} - Int<T>(First);
+  const I lane = lane_numbers<T>();
+  I still{};
+  for (int i = 0; i < count; i += kWidth<T>) {
+    const V v = load<V>(l.f + i), t = load<V>(l.t + i), a = abs_lanes<T>(v), lo = load<V>(l.lo + i),
+            hi = load<V>(l.hi + i);
+    const V eps = eps_at_0 + eps_slope * t;  // hit_threshold at the point evaluated, a step's or a midpoint
+    const I bisecting = load<I>(l.bisecting + i) != 0, finite = a <= largest;
     // Bisecting: t is the bracket's midpoint; it ends there, or the side of the same sign as v moves to it.
-    const bool bisect_hit = (a < eps) | !((t > lo) & (t < hi));
+    const I bisect_hit = (a < eps) | ~((t > lo) & (t < hi));
     // Stepping: below the threshold is a hit, unless the step went past the surface (below -threshold after the
     // first step): then bisect [lo, t].
-    const bool below = v < eps, step_hit = below & ((v > -eps) | First), inside_first = First & (v < -eps);
-    const bool ends_here = (bisecting & bisect_hit) | (!bisecting & step_hit);
-    const bool splits = (bisecting & !bisect_hit) | (!bisecting & below & !step_hit);
-    const bool forward = !bisecting & !below, above = v > 0;
-    const T lo_next = (above | forward) ? t : lo, hi_next = above ? hi : t;
-    const T mid = lo_next + (hi_next - lo_next) * T(0.5), ahead = t + fixed_step;
-    I code = (!splits & (ahead > l.max_dist[i])) ? miss_far : out_of_steps;
+    const I below = v < eps, step_hit = below & ((v > -eps) | first), inside_first = first & (v < -eps);
+    const I ends_here = (bisecting & bisect_hit) | (~bisecting & step_hit);
+    const I splits = (bisecting & ~bisect_hit) | (~bisecting & below & ~step_hit);
+    const I forward = ~bisecting & ~below, above = v > T(0);
+    const V lo_next = (above | forward) ? t : lo, hi_next = above ? hi : t;
+    const V mid = lo_next + (hi_next - lo_next) * T(0.5), ahead = t + fixed_step;
+    I code = (~splits & (ahead > load<V>(l.max_dist + i))) ? miss_far : out_of_steps;
     code = ends_here ? hit : code;
     code = inside_first ? inside : code;
     code = finite ? code : invalid;
-    T t_next = splits ? mid : ahead;  // where the field is wanted next, or where the ray ends
-    t_next = (splits & last_step) ? lo_next : t_next;
-    t_next = (ends_here | inside_first | !finite) ? t : t_next;
-    const bool live = settle(l, i, code, v, t, a, I(step));
-    l.t[i] = live ? t_next : t;
+    V t_next = splits ? mid : ahead;  // where the field is wanted next, or where the ray ends
+    t_next = (splits & at_last_step) ? lo_next : t_next;
+    t_next = (ends_here | inside_first | ~finite) ? t : t_next;
+    const I live = settle(l, i, code, v, t, a, Int<T>(step));
+    store(l.t + i, live ? t_next : t);
     // A lane that ended never reads these again.
-    l.lo[i] = lo_next;
-    l.hi[i] = hi_next;
-    l.bisecting[i] = I(splits);
-    still += code == running;
+    store(l.lo + i, lo_next);
+    store(l.hi + i, hi_next);
+    store(l.bisecting + i, splits);
+    still += (code == running) & (lane < count - i);
   }
-  return static_cast<int>(still);
+  return count_running<T>(still);
 }
 
 // Writes the records of the lanes that ended (Secant: a hit with a step left and a secant root apart from where it
@@ -256,13 +321,16 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
                  RayRecord<T>* records, const MarchSettings& s, const MarchContext& c) {
   Lanes<T> l;
   SecantRoots<T> roots;
-  std::fill_n(l.min_abs, n, std::numeric_limits<T>::infinity());
-  std::fill_n(l.last_f, n, std::numeric_limits<T>::infinity());
-  std::fill_n(l.t_at_min, n, T(0));
-  std::fill_n(l.code, n, Int<T>(kRunning));
-  for (T* a : {l.prev_f, l.hi}) std::fill_n(a, n, T(0));
-  std::fill_n(l.omega, n, T(s.relaxation));
-  std::fill_n(l.bisecting, n, Int<T>(0));
+  // The feeds read whole vectors: the last one's lanes past n are set too, their results never read.
+  const int padded = (n + kWidth<T> - 1) / kWidth<T> * kWidth<T>;
+  std::fill_n(l.min_abs, padded, std::numeric_limits<T>::infinity());
+  std::fill_n(l.last_f, padded, std::numeric_limits<T>::infinity());
+  std::fill_n(l.t_at_min, padded, T(0));
+  std::fill_n(l.code, padded, Int<T>(kRunning));
+  for (T* a : {l.prev_f, l.hi}) std::fill_n(a, padded, T(0));
+  std::fill_n(l.omega, padded, T(s.relaxation));
+  std::fill_n(l.bisecting, padded, Int<T>(0));
+  for (T* a : {l.t, l.prev_t, l.lo, l.max_dist, l.f}) std::fill(a + n, a + padded, T(0));
   for (int i = 0; i < n; ++i) {
     const PacketRay<T>& ray = rays[ids[i]];
     l.ox[i] = ray.origin.x;

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <limits>
 #include <string_view>
+#include <type_traits>
 
 namespace marchcheck::march {
 
@@ -101,17 +102,34 @@ struct StepRule {
         width(T(sdf::stepped_perturbation(s, c.perturbation.width))),
         smooth_scale(T(sdf::step_per_unit_f(s, c.perturbation.lipschitz))),
         smooth_radius(T(1 / c.perturbation.lipschitz)) {}
+  // Each works on T, or on a vector of T when named (step<V>(v, omega): GCC's vector extension, the packets'
+  // lanes), the same expressions.
   // A step of omega times the bound (omega 1: a plain step).
-  T step(T v, T omega) const { return longer(plain_step(v, omega), (v - width) * omega * smooth_scale); }
+  template <class U = T>
+  U step(std::type_identity_t<U> v, std::type_identity_t<U> omega) const {
+    return longer<U>(plain_step<U>(v, omega), (v - width) * omega * smooth_scale);
+  }
   // The radii of the unbounding spheres at two points where |f| is a and b, summed (perturbed: a lower bound of
   // the sum, each radius's longer term taken alike).
-  T radii(T a, T b) const { return longer(plain_radii(a, b), (a + b - 2 * width) * smooth_radius); }
+  template <class U = T>
+  U radii(std::type_identity_t<U> a, std::type_identity_t<U> b) const {
+    return longer<U>(plain_radii<U>(a, b), (a + b - 2 * width) * smooth_radius);
+  }
   // Their terms without the perturbation: step and radii themselves, bit for bit, where width is +inf.
-  T plain_step(T v, T omega) const { return v * omega * scale; }
-  T plain_radii(T a, T b) const { return (a + b) * radius; }
+  template <class U = T>
+  U plain_step(std::type_identity_t<U> v, std::type_identity_t<U> omega) const {
+    return v * omega * scale;
+  }
+  template <class U = T>
+  U plain_radii(std::type_identity_t<U> a, std::type_identity_t<U> b) const {
+    return (a + b) * radius;
+  }
 
  private:
-  static T longer(T plain, T perturbed) { return plain < perturbed ? perturbed : plain; }  // NaN: plain
+  template <class U>
+  static U longer(U plain, U perturbed) {
+    return plain < perturbed ? perturbed : plain;  // NaN: plain
+  }
 };
 
 // The root of the line through the samples (prev_t, prev_f) and (t, v): a Newton step on f(o + t d) = 0 with the
