@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
+#include <utility>
 #include <limits>
 
 namespace marchcheck::march {
@@ -12,11 +13,11 @@ namespace {
 
 constexpr int kMaxPacket = 256;  // rays in flight at once: one render tile
 
-// A packet of rays as structure of arrays, so that the bookkeeping of a step, not only the evaluation, runs as
-// vectorised loops. Rays that end stay in place, masked, until half the packet has ended; then the packet is
+// A packet of rays as structure of arrays, so that the bookkeeping of a step, not only the evaluation, runs on
+// whole vectors of lanes. Rays that end stay in place, masked, until half the packet has ended; then the packet is
 // compacted (at a quarter, an eighth, or 16 lanes, lee-flat rendered 1-5% slower: compaction costs more than
 // masked lanes).
-// Integers as wide as T, so a loop mixing them with T vectorises.
+// Integers as wide as T: a comparison of vectors of T gives lanes of this width, and a select needs them alike.
 template <class T>
 using Int = std::conditional_t<sizeof(T) == 4, std::int32_t, std::int64_t>;
 
@@ -78,14 +79,18 @@ struct Simd<double> {
 template <class T>
 constexpr int kWidth = kVectorBytes / static_cast<int>(sizeof(T));  // lanes per vector; kMaxPacket is a multiple
 
+static_assert(kMaxPacket % kWidth<double> == 0 && kMaxPacket % kWidth<float> == 0);
+
 template <class A, class E>
 A load(const E* at) {
+  static_assert(sizeof(A) == kVectorBytes && sizeof(std::declval<A&>()[0]) == sizeof(E));  // one vector of E
   A a;
   std::memcpy(&a, at, sizeof a);
   return a;
 }
 template <class A, class E>
 void store(E* at, A a) {
+  static_assert(sizeof(A) == kVectorBytes && sizeof(std::declval<A&>()[0]) == sizeof(E));  // one vector of E
   std::memcpy(at, &a, sizeof a);
 }
 // |v| as std::abs: the sign bit cleared (-0 gives +0, NaN stays NaN).
@@ -120,11 +125,11 @@ typename Simd<T>::I settle(Lanes<T>& l, int i, typename Simd<T>::I& code, typena
 }
 
 // The feeds run over the lanes from 0 to count rounded up to whole vectors: those past count are stale copies or
-// padding, computed and stored like the rest but never read. A vector's lane numbers, 0 to kWidth - 1: in the
+// padding, computed and stored like the rest but never read into a record. A vector's lane numbers, 0 to kWidth - 1: in the
 // vector from lane i, `lane < count - i` keeps those past count out of the count of running lanes.
 template <class T>
 typename Simd<T>::I lane_numbers() {
-  typename Simd<T>::I index;
+  typename Simd<T>::I index{};
   for (int k = 0; k < kWidth<T>; ++k) index[k] = k;
   return index;
 }
@@ -327,6 +332,7 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
   std::fill_n(l.last_f, padded, std::numeric_limits<T>::infinity());
   std::fill_n(l.t_at_min, padded, T(0));
   std::fill_n(l.code, padded, Int<T>(kRunning));
+  std::fill_n(l.steps, padded, Int<T>(0));  // read (and kept) by settle before a lane ends
   for (T* a : {l.prev_f, l.hi}) std::fill_n(a, padded, T(0));
   std::fill_n(l.omega, padded, T(s.relaxation));
   std::fill_n(l.bisecting, padded, Int<T>(0));
