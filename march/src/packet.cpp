@@ -124,21 +124,35 @@ typename Simd<T>::I settle(Lanes<T>& l, int i, typename Simd<T>::I& code, typena
   return live;
 }
 
-// The feeds run over the lanes from 0 to count rounded up to whole vectors: those past count are stale copies or
-// padding, computed and stored like the rest but never read into a record. A vector's lane numbers, 0 to kWidth - 1: in the
-// vector from lane i, `lane < count - i` keeps those past count out of the count of running lanes.
+// The outcomes as lanes, for a feed at step `step`: out_of_steps is miss_steps at the last step, else running.
 template <class T>
-typename Simd<T>::I lane_numbers() {
-  typename Simd<T>::I index{};
-  for (int k = 0; k < kWidth<T>; ++k) index[k] = k;
-  return index;
-}
+struct LaneCodes {
+  using I = typename Simd<T>::I;
+  I miss_far = I{} + Int<T>(Outcome::miss_far), hit = I{} + Int<T>(Outcome::hit),
+    inside = I{} + Int<T>(Outcome::inside), invalid = I{} + Int<T>(Outcome::invalid), out_of_steps;
+  LaneCodes(int step, int max_steps)
+      : out_of_steps(I{} + (step >= max_steps ? Int<T>(Outcome::miss_steps) : Int<T>(kRunning))) {}
+};
+
+// The number of lanes still running, counted over a feed's pass. The feeds run over the lanes from 0 to count
+// rounded up to whole vectors: those past count are stale copies or padding, computed and stored like the rest but
+// never read into a record, and left out here (in the vector from lane i, those with lane number >= count - i).
 template <class T>
-int count_running(typename Simd<T>::I running) {
-  Int<T> sum = 0;
-  for (int k = 0; k < kWidth<T>; ++k) sum -= running[k];  // -1 a running lane
-  return static_cast<int>(sum);
-}
+class RunningTally {
+  using I = typename Simd<T>::I;
+  I lane_{}, running_{};  // lane numbers 0 to kWidth - 1; -1 a lane counted
+
+ public:
+  RunningTally() {
+    for (int k = 0; k < kWidth<T>; ++k) lane_[k] = k;
+  }
+  void add(I code, int i, int count) { running_ += (code == kRunning) & (lane_ < count - i); }
+  int total() const {
+    Int<T> sum = 0;
+    for (int k = 0; k < kWidth<T>; ++k) sum -= running_[k];
+    return static_cast<int>(sum);
+  }
+};
 
 // SphereTrace::feed for every lane at once (Relaxed: with its over-relaxation and step back, else omega = 1;
 // Secant: keeping the samples a hit's secant root is taken from); the same expressions in the same order. All
@@ -161,16 +175,15 @@ int feed_lanes(Lanes<T>& l, int count, int step, const StepRule<T> rule, T eps_a
   };
   const V one = V{} + T(1);
   const T largest = std::numeric_limits<T>::max();
-  const I running = I{} + kRunning, miss_far = I{} + Int<T>(Outcome::miss_far), hit = I{} + Int<T>(Outcome::hit),
-          inside = I{} + Int<T>(Outcome::inside), invalid = I{} + Int<T>(Outcome::invalid);
-  const I out_of_steps = step >= max_steps ? I{} + Int<T>(Outcome::miss_steps) : running;
-  const I lane = lane_numbers<T>();
-  I still{};
+  const LaneCodes<T> c(step, max_steps);
+  RunningTally<T> still;
   for (int i = 0; i < count; i += kWidth<T>) {
     const V v = load<V>(l.f + i), t = load<V>(l.t + i), a = abs_lanes<T>(v);
     const V eps = eps_at_0 + eps_slope * t;  // hit_threshold: each mode is a + b t with an exact zero term
+    // As SphereTrace: past max_dist where a plain step passes it too (an over-relaxed one may yet step back).
+    const V plain_reach = t + step_of(v, one);
     I back{};
-    V next = t + step_of(v, one);
+    V next = plain_reach;
     V prev_t{}, prev_f{}, omega = one;
     if constexpr (Relaxed || Secant) {
       prev_t = load<V>(l.prev_t + i);
@@ -186,17 +199,15 @@ int feed_lanes(Lanes<T>& l, int count, int step, const StepRule<T> rule, T eps_a
       const V ahead = t + step_of(v, omega);
       next = back ? back_to : ahead;
     }
-    // As SphereTrace: past max_dist where a plain step passes it too (an over-relaxed one may yet step back).
-    const V plain_reach = t + step_of(v, one);
     const V md = load<V>(l.max_dist + i);
-    I code = out_of_steps;
-    code = next > md ? miss_far : code;
-    code = plain_reach > md ? code : out_of_steps;
-    code = back ? out_of_steps : code;
+    I code = c.out_of_steps;
+    code = next > md ? c.miss_far : code;
+    code = plain_reach > md ? code : c.out_of_steps;
+    code = back ? c.out_of_steps : code;
     const I moved = code;  // t moves on unless the step below ends the ray where it is
-    code = (~back & (v < eps)) ? hit : code;
-    if constexpr (First) code = v < -eps ? inside : code;
-    code = a <= largest ? code : invalid;  // not finite
+    code = (~back & (v < eps)) ? c.hit : code;
+    if constexpr (First) code = v < -eps ? c.inside : code;
+    code = a <= largest ? code : c.invalid;  // not finite
     const I live = settle(l, i, code, v, t, a, Int<T>(step));
     const I forward = live & (code == moved);  // t moves on: the step taken (or the step back)
     store(l.t + i, forward ? next : t);
@@ -206,9 +217,9 @@ int feed_lanes(Lanes<T>& l, int count, int step, const StepRule<T> rule, T eps_a
       store(l.prev_t + i, stepped ? t : prev_t);
       store(l.prev_f + i, stepped ? v : prev_f);
     }
-    still += (code == running) & (lane < count - i);
+    still.add(code, i, count);
   }
-  return count_running<T>(still);
+  return still.total();
 }
 
 // FixedTrace::feed for every lane at once: steps of fixed_step; a step that lands inside (f below -threshold)
@@ -221,13 +232,9 @@ int feed_fixed_lanes(Lanes<T>& l, int count, int step, T fixed_step, T eps_at_0,
   using V = typename Simd<T>::V;
   using I = typename Simd<T>::I;
   const T largest = std::numeric_limits<T>::max();
-  const I running = I{} + kRunning, miss_far = I{} + Int<T>(Outcome::miss_far), hit = I{} + Int<T>(Outcome::hit),
-          inside = I{} + Int<T>(Outcome::inside), invalid = I{} + Int<T>(Outcome::invalid);
-  const bool last_step = step >= max_steps;
-  const I out_of_steps = last_step ? I{} + Int<T>(Outcome::miss_steps) : running;
-  const I at_last_step = I{} - Int<T>(last_step), first = I{} - Int<T>(First);
-  const I lane = lane_numbers<T>();
-  I still{};
+  const LaneCodes<T> c(step, max_steps);
+  const I at_last_step = I{} - Int<T>(step >= max_steps), first = I{} - Int<T>(First);
+  RunningTally<T> still;
   for (int i = 0; i < count; i += kWidth<T>) {
     const V v = load<V>(l.f + i), t = load<V>(l.t + i), a = abs_lanes<T>(v), lo = load<V>(l.lo + i),
             hi = load<V>(l.hi + i);
@@ -243,10 +250,10 @@ int feed_fixed_lanes(Lanes<T>& l, int count, int step, T fixed_step, T eps_at_0,
     const I forward = ~bisecting & ~below, above = v > T(0);
     const V lo_next = (above | forward) ? t : lo, hi_next = above ? hi : t;
     const V mid = lo_next + (hi_next - lo_next) * T(0.5), ahead = t + fixed_step;
-    I code = (~splits & (ahead > load<V>(l.max_dist + i))) ? miss_far : out_of_steps;
-    code = ends_here ? hit : code;
-    code = inside_first ? inside : code;
-    code = finite ? code : invalid;
+    I code = (~splits & (ahead > load<V>(l.max_dist + i))) ? c.miss_far : c.out_of_steps;
+    code = ends_here ? c.hit : code;
+    code = inside_first ? c.inside : code;
+    code = finite ? code : c.invalid;
     V t_next = splits ? mid : ahead;  // where the field is wanted next, or where the ray ends
     t_next = (splits & at_last_step) ? lo_next : t_next;
     t_next = (ends_here | inside_first | ~finite) ? t : t_next;
@@ -256,9 +263,9 @@ int feed_fixed_lanes(Lanes<T>& l, int count, int step, T fixed_step, T eps_at_0,
     store(l.lo + i, lo_next);
     store(l.hi + i, hi_next);
     store(l.bisecting + i, splits);
-    still += (code == running) & (lane < count - i);
+    still.add(code, i, count);
   }
-  return count_running<T>(still);
+  return still.total();
 }
 
 // Writes the records of the lanes that ended (Secant: a hit with a step left and a secant root apart from where it
