@@ -144,8 +144,8 @@ struct Context {
 template <class T>
 using Vec = glm::vec<3, T>;
 
-// Room for a tile's worth of an aggregate that a packet call writes whole (RayRecord, NormalResult): left unset,
-// where an array of them would first set every member to its default.
+// Room for a tile's worth of an aggregate written whole before it is read (a packet call's RayRecord or
+// NormalResult, a pixel's mesh hit): left unset, where an array of them would first set every member to its default.
 template <class R>
 class Unset {
  public:
@@ -426,6 +426,8 @@ class TileRenderer {
         counters_(counters), tracer_{ctx, counters}, x0_(x0), y0_(y0), x1_(std::min(x0 + kTile, out.color.width)),
         y1_(std::min(y0 + kTile, out.color.height)), w_(x1_ - x0_), pixels_(w_ * (y1_ - y0_)),
         per_pixel_cost_(!out.evals.pixels.empty() || !out.stage_evals.pixels.empty()),
+        more_images_(per_pixel_cost_ || !out.depth.pixels.empty() || !out.normal.pixels.empty() ||
+                     !out.steps.pixels.empty() || !out.id.pixels.empty() || !out.outcome.pixels.empty()),
         lights_(ctx.scene.lights.size()) {
     if (per_pixel_cost_) cost_.fill({});
   }
@@ -463,10 +465,11 @@ class TileRenderer {
     double ao = 1;
     bool hit = false;
     bool on_mesh = false;  // the nearest surface is a triangle mesh, not the field
-    MeshHit mesh;
-    // Reference renders: the oracle's hit in double, at origin + unit direction reference_t, within reference_lift
-    // of the surface (its shadow rays start there, not at the float point, which can lie deeper inside).
-    double reference_t = 0, reference_lift = 0;
+  };
+  // Reference renders: the oracle's hit in double, at origin + unit direction t, within lift of the surface (its
+  // shadow rays start there, not at the float point, which can lie deeper inside).
+  struct ReferenceHit {
+    double t, lift;
   };
   // Beside the pixels rather than in them, so that the tile's state stays in the first-level cache: the
   // evaluations per pixel (all stages, then each), kept only for the images that show them.
@@ -504,6 +507,10 @@ class TileRenderer {
   int index(const PixelState& p) const { return static_cast<int>(&p - px_.data()); }
   double* visibility(const PixelState& p) { return visibility_ + static_cast<size_t>(index(p)) * lights_; }
   bool surface(const PixelState& p) const { return p.hit || p.on_mesh; }
+  // The meshes' hit along the pixel's ray; none where the scene has no mesh.
+  const MeshHit* mesh(const PixelState& p) {
+    return ctx_.meshes && meshes_[index(p)].hit ? &meshes_[index(p)] : nullptr;
+  }
   // The ray's direction in double, unit length, as the oracle is asked along it (its t is along this).
   static glm::dvec3 unit_direction(const PixelState& p) {
     return glm::dvec3(p.direction) / glm::length(glm::dvec3(p.direction));
@@ -528,16 +535,17 @@ class TileRenderer {
   void intersect_meshes() {
     stage(kMesh, [&](PixelState& p, int, int) {
       const Ray& ray = rays_[index(p)];
-      p.mesh = ctx_.meshes->intersect(ray.origin, ray.direction, s_.max_dist);
+      meshes_[index(p)] = ctx_.meshes->intersect(ray.origin, ray.direction, s_.max_dist);
       return 0;
     });
   }
 
   // The nearest surface is a mesh's where the mesh is nearer than the field's, or the field has none.
-  void take_mesh(PixelState& p) {
-    p.record.t = static_cast<T>(p.mesh.t);
-    p.normal = V(p.mesh.normal);
-    p.material = p.mesh.material;
+  void take_mesh(PixelState& p, const MeshHit& mesh) {
+    p.on_mesh = true;
+    p.record.t = static_cast<T>(mesh.t);
+    p.normal = V(mesh.normal);
+    p.material = mesh.material;
   }
   void surface_found(PixelState& p) {
     p.point = p.origin + p.direction * p.record.t;
@@ -550,15 +558,15 @@ class TileRenderer {
     PacketRay<T> rays[kTile * kTile];
     Unset<RayRecord<T>> records;
     each([&](PixelState& p, int, int) {
-      rays[index(p)] = {p.origin, p.direction, p.mesh.hit ? p.mesh.t : s_.max_dist};
+      const MeshHit* on = mesh(p);
+      rays[index(p)] = {p.origin, p.direction, on ? on->t : s_.max_dist};
     });
     march_packet(ctx_.tape, rays, records.data(), pixels_, s_, ctx_.march);
     stage(kMarch, [&](PixelState& p, int, int) {
       const RayRecord<T>& marched = records[index(p)];
-      p.on_mesh = p.mesh.hit && marched.outcome != Outcome::hit;
       p.record = as_read(marched, s_);
       p.hit = p.record.outcome == Outcome::hit;
-      if (p.on_mesh) take_mesh(p);
+      if (const MeshHit* on = mesh(p); on && marched.outcome != Outcome::hit) take_mesh(p, *on);
       surface_found(p);
       return p.record.evals;
     });
@@ -575,14 +583,12 @@ class TileRenderer {
       p.record.t = hit ? static_cast<T>(hit->t / len) : T(0);
       if (hit) {
         p.normal = V(hit->normal);
-        p.reference_t = hit->t;
-        p.reference_lift = tolerance::reference_hit_slack(origin, hit->t, hit->t_error);
+        references_[index(p)] = {hit->t, tolerance::reference_hit_slack(origin, hit->t, hit->t_error)};
       }
       p.hit = hit.has_value();
-      if (p.mesh.hit && (!hit || p.mesh.t < hit->t / len)) {
+      if (const MeshHit* on = mesh(p); on && (!hit || on->t < hit->t / len)) {
         p.hit = false;
-        p.on_mesh = true;
-        take_mesh(p);
+        take_mesh(p, *on);
       }
       surface_found(p);
       return 0;
@@ -650,8 +656,9 @@ class TileRenderer {
       stage(kShadow, [&](PixelState& p, int, int) {
         if (!surface(p)) return std::uint64_t{0};
         if (!ctx_.oracle || !p.hit) return tracer_.shadows(p.point, p.normal, p.record.t, visibility(p));
-        tracer_.reference_shadows(glm::dvec3(p.origin) + unit_direction(p) * p.reference_t, glm::dvec3(p.normal),
-                                  p.reference_lift, visibility(p));
+        const ReferenceHit& reference = references_[index(p)];
+        tracer_.reference_shadows(glm::dvec3(p.origin) + unit_direction(p) * reference.t, glm::dvec3(p.normal),
+                                  reference.lift, visibility(p));
         return std::uint64_t{0};
       });
       return;
@@ -781,6 +788,7 @@ class TileRenderer {
     float* c = out_.color.at(x, y);
     for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(color[i]);
     counters_.steps_max = std::max(counters_.steps_max, p.record.steps);
+    if (!more_images_) return;
     if (!out_.depth.pixels.empty()) *out_.depth.at(x, y) = surface(p) ? static_cast<float>(p.record.t) : INFINITY;
     if (!out_.normal.pixels.empty()) {
       float* n = out_.normal.at(x, y);
@@ -804,8 +812,13 @@ class TileRenderer {
   Tracer<T> tracer_;
   const int x0_, y0_, x1_, y1_, w_, pixels_;
   const bool per_pixel_cost_;
+  // Any image besides the colour (the render command's usual case has none): checked once a pixel, not once an image.
+  const bool more_images_;
   const size_t lights_;
   std::array<PixelState, kTile * kTile> px_;
+  // Beside the pixels, set and read only where the scene has meshes or the surfaces are the reference's.
+  Unset<MeshHit> meshes_;
+  Unset<ReferenceHit> references_;
   Ray rays_[kTile * kTile];
   std::array<PixelCost, kTile * kTile> cost_;
   double visibility_[kTile * kTile * kMaxLights];  // lights_ entries per pixel
