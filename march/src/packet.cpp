@@ -391,8 +391,9 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
   for (T* a : {l.prev_f, l.hi}) std::fill_n(a, padded, T(0));
   std::fill_n(l.omega, padded, T(s.relaxation));
   std::fill_n(l.bisecting, padded, Int<T>(0));
-  for (T* a : {l.ox, l.oy, l.oz, l.dx, l.dy, l.dz, l.t, l.prev_t, l.lo, l.max_dist, l.f})
-    std::fill(a + n, a + padded, T(0));
+  // The field's values too: lanes past the count that drop_degenerate leaves are read by the first feed.
+  std::fill_n(l.f, padded, T(0));
+  for (T* a : {l.ox, l.oy, l.oz, l.dx, l.dy, l.dz, l.t, l.prev_t, l.lo, l.max_dist}) std::fill(a + n, a + padded, T(0));
   for (int i = 0; i < n; ++i) {
     const PacketRay<T>& ray = rays[ids[i]];
     l.ox[i] = ray.origin.x;
