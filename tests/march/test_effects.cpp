@@ -466,6 +466,8 @@ TEST(Toon, DiffuseTakesOnlyTheBandValues) {
 namespace marchcheck::march {
 namespace {
 
+// Broken variants: a mesh's pixel left unmarked, so unshaded (march-mesh-surface-unmarked); a ray that misses every
+// mesh taken as a hit on one (march-mesh-miss-taken).
 TEST(MeshOcclusion, MeshAndFieldHideEachOtherAtTheirExactDistances) {
   // A unit sphere at the origin; a mesh wall at z = 1 over x < 0 (in front of the sphere, whose nearest point
   // is at z = 1) and one at z = -2 over x > 0 (behind it).
@@ -498,6 +500,13 @@ TEST(MeshOcclusion, MeshAndFieldHideEachOtherAtTheirExactDistances) {
   const Ray far_right = cam.ray(33.5, 20.5);
   EXPECT_NEAR(*r.depth.at(33, 20), (5 + 2) / -far_right.direction.z, 1e-5);
   EXPECT_GT(r.stages.at("mesh").seconds, 0.0);
+  // With the front wall alone, a ray past the sphere on the right misses every surface: the background, no depth, no
+  // material.
+  s.meshes[0].vertices.resize(4);
+  s.meshes[0].triangles.resize(2);
+  const RenderResult front = render(s);
+  EXPECT_EQ(*front.depth.at(33, 20), INFINITY);
+  EXPECT_EQ(*front.id.at(33, 20), -1.0f);
   // Without meshes the stage is never entered.
   s.meshes.clear();
   EXPECT_EQ(render(s).stages.at("mesh").seconds, 0.0);

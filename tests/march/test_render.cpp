@@ -133,6 +133,7 @@ TEST_P(EveryBuiltin, SceneFileRendersTheSameImageBitForBit) {
 }
 
 // Keeping only the asked-for images changes no pixel and no count: the images left out are merely not written.
+// Broken variant: the depth image, asked for alone, never written (march-depth-image-skipped).
 TEST_P(EveryBuiltin, KeepingOnlyAskedImagesChangesNothingElse) {
   const sdf::Scene scene = small(GetParam(), 64, 36);
   const RenderResult all = render(scene, {Aov::depth}), asked = render(scene, {Aov::depth}, nullptr, Images::asked);
