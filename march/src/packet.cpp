@@ -338,7 +338,7 @@ RayRecord<T> march_alone(const sdf::Tape& tape, const PacketRay<T>& ray, const M
 }
 
 // detail::ray_degenerate (not finite, or no direction) for the n lanes filled, a vector at a time over their
-// components: the same tests (|v| <= max, which NaN fails; == 0). Such rays are rare; they leave the packet for
+// components (detail::marchable_components on vectors). Such rays are rare; they leave the packet for
 // march_alone. (Tested per ray before the lanes were filled, as a chain of twenty scalar compares, it cost 4% of
 // lee-flat's render and 5% of crum-torus's.) Returns the number of lanes left.
 template <class T>
@@ -346,16 +346,13 @@ int drop_degenerate(const sdf::Tape& tape, Lanes<T>& l, int n, const PacketRay<T
                     const MarchSettings& s, const MarchContext& c) {
   using V = typename Simd<T>::V;
   using I = typename Simd<T>::I;
-  const T largest = std::numeric_limits<T>::max();
   alignas(64) Int<T> degenerate[kMaxPacket];
   I lane{}, found{};
   for (int k = 0; k < kWidth<T>; ++k) lane[k] = k;
   for (int i = 0; i < n; i += kWidth<T>) {
-    const V dx = load<V>(l.dx + i), dy = load<V>(l.dy + i), dz = load<V>(l.dz + i);
-    const I finite = (abs_lanes<T>(load<V>(l.ox + i)) <= largest) & (abs_lanes<T>(load<V>(l.oy + i)) <= largest) &
-                     (abs_lanes<T>(load<V>(l.oz + i)) <= largest) & (abs_lanes<T>(dx) <= largest) &
-                     (abs_lanes<T>(dy) <= largest) & (abs_lanes<T>(dz) <= largest);
-    const I bad = (~finite | ((dx == T(0)) & (dy == T(0)) & (dz == T(0)))) & (lane < n - i);  // padding is not
+    const I marchable = detail::marchable_components<T, V>(load<V>(l.ox + i), load<V>(l.oy + i), load<V>(l.oz + i),
+                                                           load<V>(l.dx + i), load<V>(l.dy + i), load<V>(l.dz + i));
+    const I bad = ~marchable & (lane < n - i);  // padding is not
     store(degenerate + i, bad);
     found |= bad;
   }

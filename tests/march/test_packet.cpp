@@ -163,9 +163,10 @@ std::vector<std::pair<RayRecord<float>, RayRecord<float>>> packet_and_alone(cons
 // direction, or a NaN or infinity in any one of the six components) end as march() ends them: invalid, after no
 // evaluation. A direction along one axis is not degenerate. Rays marched in the same packet after the degenerate
 // ones (which leave its lanes) end as they would alone. Broken variants: a ray whose direction's z is not tested
-// finite, one at a time (march-ray-degenerate-skips-dz) or in the lanes (march-packet-degenerate-skips-dz); a
-// degenerate ray marched in the lanes as well (march-packet-degenerate-kept); the lanes after it keeping their
-// neighbour's max_dist (march-packet-degenerate-shift-forgets-max-dist).
+// finite, one at a time and in the lanes (march-ray-degenerate-skips-dz); a ray along one axis taken for no
+// direction (march-ray-degenerate-direction-any-zero); a degenerate ray marched in the lanes as well
+// (march-packet-degenerate-kept); the lanes after it keeping their neighbour's max_dist
+// (march-packet-degenerate-shift-forgets-max-dist).
 TEST(Packet, InvalidSettingsAndRaysEndInvalidAsOneRayAtATime) {
   const sdf::Scene scene = sdf::builtin_scene("lee-flat");
   const sdf::Tape tape = sdf::compile(scene.root);

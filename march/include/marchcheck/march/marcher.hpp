@@ -213,14 +213,27 @@ struct Tracker {
 
 namespace detail {
 
-// A ray whose geometry cannot be marched: not finite or no direction. Every test made (`&`, not `&&`): the
-// packets ask it of every ray, where a branch per component cost more than the tests.
+// v is finite (NaN fails both compares). On T, or on a vector of T when named (U: the packets' lanes, a mask).
+template <class T, class U = T>
+inline auto finite_component(U v) {
+  return (-std::numeric_limits<T>::max() <= v) & (v <= std::numeric_limits<T>::max());
+}
+
+// A ray's six components can be marched: all finite, and a direction. On T, or on vectors of T when named (the
+// packets test a vector of rays at once): one expression for both. Every test made (`&`, not `&&`): a branch per
+// component cost more than the tests.
+template <class T, class U = T>
+inline auto marchable_components(U ox, U oy, U oz, U dx, U dy, U dz) {
+  return finite_component<T, U>(ox) & finite_component<T, U>(oy) & finite_component<T, U>(oz) &
+         finite_component<T, U>(dx) & finite_component<T, U>(dy) & finite_component<T, U>(dz) &
+         ((dx != T(0)) | (dy != T(0)) | (dz != T(0)));
+}
+
+// A ray whose geometry cannot be marched: not finite or no direction.
 template <class T>
 inline bool ray_degenerate(glm::vec<3, T> origin, glm::vec<3, T> direction, T t_start) {
-  const auto finite = [](T v) { return std::abs(v) <= std::numeric_limits<T>::max(); };  // NaN compares false
-  const bool all_finite = finite(origin.x) & finite(origin.y) & finite(origin.z) & finite(direction.x) &
-                          finite(direction.y) & finite(direction.z) & finite(t_start);
-  return (!all_finite) | ((direction.x == 0) & (direction.y == 0) & (direction.z == 0));
+  return !(marchable_components<T>(origin.x, origin.y, origin.z, direction.x, direction.y, direction.z) &
+           finite_component<T>(t_start));
 }
 
 // A ray that cannot be marched: degenerate, or settings that make no sense.
