@@ -478,10 +478,10 @@ class TileRenderer {
     std::array<std::uint64_t, kStageCount> stages;
   };
 
+  // fn(pixel, k) for the tile's pixels in row order, k the pixel's index in the tile.
   template <class Fn>
   void each(Fn&& fn) {
-    for (int y = y0_; y < y1_; ++y)
-      for (int x = x0_; x < x1_; ++x) fn(px_[static_cast<size_t>((y - y0_) * w_ + (x - x0_))], x, y);
+    for (int k = 0; k < pixels_; ++k) fn(px_[static_cast<size_t>(k)], k);
   }
   // Stage times as laps: each stage's end is the next one's start (one clock reading per pass, not two).
   void lap(Stage which) {
@@ -490,9 +490,9 @@ class TileRenderer {
     mark_ = now;
   }
   // Books evaluations a stage spent on pixel p: to the stage, and to the pixel where its cost images are kept.
-  void charge(Stage which, const PixelState& p, std::uint64_t evals) {
+  void charge(Stage which, int k, std::uint64_t evals) {
     if (per_pixel_cost_) {
-      auto& c = cost_[static_cast<size_t>(index(p))];
+      auto& c = cost_[static_cast<size_t>(k)];
       c.evals += evals;
       c.stages[which] += evals;
     }
@@ -501,15 +501,14 @@ class TileRenderer {
   // Runs one stage over the tile, timing it and charging the evaluations it reports.
   template <class Fn>
   void stage(Stage which, Fn&& fn) {
-    each([&](PixelState& p, int x, int y) { charge(which, p, static_cast<std::uint64_t>(fn(p, x, y))); });
+    each([&](PixelState& p, int k) { charge(which, k, static_cast<std::uint64_t>(fn(p, k))); });
     lap(which);
   }
-  int index(const PixelState& p) const { return static_cast<int>(&p - px_.data()); }
-  double* visibility(const PixelState& p) { return visibility_ + static_cast<size_t>(index(p)) * lights_; }
+  double* visibility(int k) { return visibility_ + static_cast<size_t>(k) * lights_; }
   bool surface(const PixelState& p) const { return p.hit || p.on_mesh; }
   // The meshes' hit along the pixel's ray; none where the scene has no mesh.
-  const MeshHit* mesh(const PixelState& p) {
-    return ctx_.meshes && meshes_[index(p)].hit ? &meshes_[index(p)] : nullptr;
+  const MeshHit* mesh(int k) {
+    return ctx_.meshes && meshes_[k].hit ? &meshes_[k] : nullptr;
   }
   // The ray's direction in double, unit length, as the oracle is asked along it (its t is along this).
   static glm::dvec3 unit_direction(const PixelState& p) {
@@ -519,23 +518,23 @@ class TileRenderer {
   // The camera's rays, for every pixel at once (bit for bit the ray of each pixel), charged to the march.
   void make_rays() {
     double xs[kTile * kTile], ys[kTile * kTile];
-    each([&](PixelState& p, int x, int y) {
-      xs[index(p)] = x + 0.5;
-      ys[index(p)] = y + 0.5;
-    });
+    for (int k = 0; k < pixels_; ++k) {
+      xs[k] = x0_ + k % w_ + 0.5;
+      ys[k] = y0_ + k / w_ + 0.5;
+    }
     ctx_.camera.rays(xs, ys, pixels_, rays_);
-    each([&](PixelState& p, int, int) {
-      p.origin = V(rays_[index(p)].origin - ctx_.origin);
-      p.direction = V(rays_[index(p)].direction);
+    each([&](PixelState& p, int k) {
+      p.origin = V(rays_[k].origin - ctx_.origin);
+      p.direction = V(rays_[k].direction);
     });
     lap(kMarch);
   }
 
   // Meshes are intersected along the camera's rays in double, before any rounding to T.
   void intersect_meshes() {
-    stage(kMesh, [&](PixelState& p, int, int) {
-      const Ray& ray = rays_[index(p)];
-      meshes_[index(p)] = ctx_.meshes->intersect(ray.origin, ray.direction, s_.max_dist);
+    stage(kMesh, [&](PixelState&, int k) {
+      const Ray& ray = rays_[k];
+      meshes_[k] = ctx_.meshes->intersect(ray.origin, ray.direction, s_.max_dist);
       return 0;
     });
   }
@@ -547,9 +546,9 @@ class TileRenderer {
     p.normal = V(mesh.normal);
     p.material = mesh.material;
   }
-  void surface_found(PixelState& p) {
+  void surface_found(PixelState& p, int k) {
     p.point = p.origin + p.direction * p.record.t;
-    std::fill_n(visibility(p), lights_, 1.0);
+    std::fill_n(visibility(k), lights_, 1.0);
   }
 
   // Surface source one: the marcher, every ray of the tile in one packet. The march stops at the mesh, as the
@@ -557,24 +556,24 @@ class TileRenderer {
   void marched_surfaces() {
     PacketRay<T> rays[kTile * kTile];
     Unset<RayRecord<T>> records;
-    each([&](PixelState& p, int, int) {
-      const MeshHit* on = mesh(p);
-      rays[index(p)] = {p.origin, p.direction, on ? on->t : s_.max_dist};
+    each([&](PixelState& p, int k) {
+      const MeshHit* on = mesh(k);
+      rays[k] = {p.origin, p.direction, on ? on->t : s_.max_dist};
     });
     march_packet(ctx_.tape, rays, records.data(), pixels_, s_, ctx_.march);
-    stage(kMarch, [&](PixelState& p, int, int) {
-      const RayRecord<T>& marched = records[index(p)];
+    stage(kMarch, [&](PixelState& p, int k) {
+      const RayRecord<T>& marched = records[k];
       p.record = as_read(marched, s_);
       p.hit = p.record.outcome == Outcome::hit;
-      if (const MeshHit* on = mesh(p); on && marched.outcome != Outcome::hit) take_mesh(p, *on);
-      surface_found(p);
+      if (const MeshHit* on = mesh(k); on && marched.outcome != Outcome::hit) take_mesh(p, *on);
+      surface_found(p, k);
       return p.record.evals;
     });
   }
 
   // Surface source two: the reference's first hit along each ray, with its exact normal.
   void reference_surfaces() {
-    stage(kMarch, [&](PixelState& p, int, int) {
+    stage(kMarch, [&](PixelState& p, int k) {
       const double len = glm::length(glm::dvec3(p.direction));
       const glm::dvec3 origin = glm::dvec3(p.origin) + ctx_.origin;  // the oracle's world
       const auto hit = ctx_.oracle->first_hit(origin, unit_direction(p), s_.max_dist);
@@ -583,14 +582,14 @@ class TileRenderer {
       p.record.t = hit ? static_cast<T>(hit->t / len) : T(0);
       if (hit) {
         p.normal = V(hit->normal);
-        references_[index(p)] = {hit->t, tolerance::reference_hit_slack(origin, hit->t, hit->t_error)};
+        references_[k] = {hit->t, tolerance::reference_hit_slack(origin, hit->t, hit->t_error)};
       }
       p.hit = hit.has_value();
-      if (const MeshHit* on = mesh(p); on && (!hit || on->t < hit->t / len)) {
+      if (const MeshHit* on = mesh(k); on && (!hit || on->t < hit->t / len)) {
         p.hit = false;
         take_mesh(p, *on);
       }
-      surface_found(p);
+      surface_found(p, k);
       return 0;
     });
   }
@@ -598,7 +597,7 @@ class TileRenderer {
   void normals() {
     if (s_.normal != NormalMethod::central) {  // the others stay one point at a time
       const TapeField field{&ctx_.tape};
-      stage(kNormal, [&](PixelState& p, int, int) {
+      stage(kNormal, [&](PixelState& p, int) {
         if (!p.hit) return 0;
         const auto n = estimate_normal(field, p.point, s_.normal, normal_epsilon(s_, p.record.t));
         p.normal = n.n;
@@ -612,17 +611,16 @@ class TileRenderer {
     int which[kTile * kTile];
     Unset<NormalResult<T>> normals;
     int count = 0;
-    each([&](PixelState& p, int, int) {
+    each([&](PixelState& p, int k) {
       if (!p.hit) return;
       points[count] = p.point;
       eps[count] = normal_epsilon(s_, p.record.t);
-      which[count++] = index(p);
+      which[count++] = k;
     });
     central_normals_packet(ctx_.tape, points, eps, normals.data(), count);
     for (int i = 0; i < count; ++i) {
-      auto& p = px_[static_cast<size_t>(which[i])];
-      p.normal = normals[i].n;
-      charge(kNormal, p, static_cast<std::uint64_t>(normals[i].evals));
+      px_[static_cast<size_t>(which[i])].normal = normals[i].n;
+      charge(kNormal, which[i], static_cast<std::uint64_t>(normals[i].evals));
     }
     lap(kNormal);
   }
@@ -631,19 +629,18 @@ class TileRenderer {
     alignas(64) T xs[kTile * kTile], ys[kTile * kTile], zs[kTile * kTile], values[kTile * kTile];
     int materials[kTile * kTile], which[kTile * kTile];
     int count = 0;
-    each([&](PixelState& p, int, int) {
+    each([&](PixelState& p, int k) {
       if (!p.hit) return;
       xs[count] = p.point.x;
       ys[count] = p.point.y;
       zs[count] = p.point.z;
-      which[count++] = index(p);
+      which[count++] = k;
     });
     for (int b = 0; b < count; b += sdf::kBatch)
       sdf::sample_batch(ctx_.tape, xs + b, ys + b, zs + b, values + b, materials + b, std::min(sdf::kBatch, count - b));
     for (int i = 0; i < count; ++i) {
-      auto& p = px_[static_cast<size_t>(which[i])];
-      p.material = materials[i];
-      charge(kMaterial, p, 1);
+      px_[static_cast<size_t>(which[i])].material = materials[i];
+      charge(kMaterial, which[i], 1);
     }
     lap(kMaterial);
   }
@@ -653,12 +650,12 @@ class TileRenderer {
     bool batched = !ctx_.oracle;
     for (const auto& light : ctx_.scene.lights) batched = batched && light.shadow != sdf::ShadowMode::soft;
     if (!batched) {
-      stage(kShadow, [&](PixelState& p, int, int) {
+      stage(kShadow, [&](PixelState& p, int k) {
         if (!surface(p)) return std::uint64_t{0};
-        if (!ctx_.oracle || !p.hit) return tracer_.shadows(p.point, p.normal, p.record.t, visibility(p));
-        const ReferenceHit& reference = references_[index(p)];
+        if (!ctx_.oracle || !p.hit) return tracer_.shadows(p.point, p.normal, p.record.t, visibility(k));
+        const ReferenceHit& reference = references_[k];
         tracer_.reference_shadows(glm::dvec3(p.origin) + unit_direction(p) * reference.t, glm::dvec3(p.normal),
-                                  reference.lift, visibility(p));
+                                  reference.lift, visibility(k));
         return std::uint64_t{0};
       });
       return;
@@ -671,18 +668,17 @@ class TileRenderer {
       const auto& light = ctx_.scene.lights[li];
       if (light.shadow == sdf::ShadowMode::none) continue;
       int count = 0;
-      each([&](PixelState& p, int, int) {
+      each([&](PixelState& p, int k) {
         if (!surface(p)) return;
         const auto [to_light, dist] = toward_light(light, ctx_.light_positions[li], p.point);
         starts[count] = shadow_start(p.point, p.normal, dist, p.record.t, light, s_, ctx_.march);
         rays[count] = {starts[count].origin, to_light, starts[count].max_dist};
-        which[count++] = index(p);
+        which[count++] = k;
       });
       march_packet(ctx_.tape, rays, records.data(), count, s_, ctx_.march);
       for (int i = 0; i < count; ++i) {
-        auto& p = px_[static_cast<size_t>(which[i])];
-        visibility(p)[li] = hard_visibility(records[i], starts[i], light);
-        charge(kShadow, p, static_cast<std::uint64_t>(records[i].evals));
+        visibility(which[i])[li] = hard_visibility(records[i], starts[i], light);
+        charge(kShadow, which[i], static_cast<std::uint64_t>(records[i].evals));
       }
     }
     lap(kShadow);
@@ -690,7 +686,7 @@ class TileRenderer {
 
   void ambient_occlusion() {
     const TapeField field{&ctx_.tape};
-    stage(kAo, [&](PixelState& p, int, int) {
+    stage(kAo, [&](PixelState& p, int) {
       if (!p.hit) return 0;
       double occlusion = 0, weights = 0, weight = 1;
       for (int i = 1; i <= effects_.ao_samples; ++i) {
@@ -733,21 +729,21 @@ class TileRenderer {
         const VS albedo =
             pipe_.materials || p.on_mesh ? VS(material_color(ctx_, p.material, at, glm::dvec3(n))) : VS(S(0.8));
         lit_index[k - first] = lit.n;
-        lit.add(VS(at), n, eye, albedo, S(p.ao), p.material, visibility(p));
+        lit.add(VS(at), n, eye, albedo, S(p.ao), p.material, visibility(k));
       }
       direct_light(ctx_, lit);
       for (int k = first; k < last; ++k) {
         PixelState& p = px_[static_cast<size_t>(k)];
         const int at = lit_index[k - first];
-        const VS color = finish(p, at >= 0 ? VS(lit.r[at], lit.g[at], lit.b[at]) : VS(0));
-        write(p, x0_ + k % w_, y0_ + k / w_, glm::dvec3(color));
+        const VS color = finish(p, k, at >= 0 ? VS(lit.r[at], lit.g[at], lit.b[at]) : VS(0));
+        write(p, k, glm::dvec3(color));
       }
     }
   }
 
   // One pixel's colour from its direct light: step-count occlusion, secondary rays, fog; glow on misses.
   template <class VS>
-  VS finish(PixelState& p, VS color) {
+  VS finish(PixelState& p, int k, VS color) {
     using S = typename VS::value_type;
     if (!surface(p)) {
       color = VS(effects_.background);
@@ -759,7 +755,7 @@ class TileRenderer {
     }
     if (effects_.ao == sdf::AmbientOcclusion::steps && !ctx_.oracle)
       color -= VS(S(static_cast<double>(p.record.steps) * p.record.steps * effects_.ao_steps_scale));
-    if (pipe_.reflection || pipe_.refraction) color = VS(bounce(p, glm::dvec3(color)));
+    if (pipe_.reflection || pipe_.refraction) color = VS(bounce(p, k, glm::dvec3(color)));
     color = glm::max(color, VS(0));
     if (effects_.fog > 0)
       color = glm::mix(VS(effects_.fog_color), color, S(std::exp(-effects_.fog * static_cast<double>(p.record.t))));
@@ -767,14 +763,14 @@ class TileRenderer {
   }
 
   // Mirror and refraction rays from the pixel's surface, timed apart from shading and charged to the pixel.
-  glm::dvec3 bounce(const PixelState& p, glm::dvec3 local) {
+  glm::dvec3 bounce(const PixelState& p, int k, glm::dvec3 local) {
     const auto start = Clock::now();
     const std::uint64_t reflection = counters_.stages[kReflection].evals;
     const std::uint64_t refraction = counters_.stages[kRefraction].evals;
     const glm::dvec3 color =
         tracer_.bounce(local, V(point_in_double(p)), p.normal, p.direction, p.material, 0, p.record.t);
     if (per_pixel_cost_) {
-      auto& c = cost_[static_cast<size_t>(index(p))];
+      auto& c = cost_[static_cast<size_t>(k)];
       c.stages[kReflection] += counters_.stages[kReflection].evals - reflection;
       c.stages[kRefraction] += counters_.stages[kRefraction].evals - refraction;
       c.evals += c.stages[kReflection] + c.stages[kRefraction];
@@ -784,7 +780,8 @@ class TileRenderer {
   }
 
   // The pixel's colour and the images kept (the others are empty: render's `images`).
-  void write(const PixelState& p, int x, int y, glm::dvec3 color) {
+  void write(const PixelState& p, int k, glm::dvec3 color) {
+    const int x = x0_ + k % w_, y = y0_ + k / w_;
     float* c = out_.color.at(x, y);
     for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(color[i]);
     counters_.steps_max = std::max(counters_.steps_max, p.record.steps);
@@ -795,7 +792,7 @@ class TileRenderer {
       for (int i = 0; i < 3; ++i) n[i] = static_cast<float>(p.normal[i]);
     }
     if (!out_.steps.pixels.empty()) *out_.steps.at(x, y) = static_cast<float>(p.record.steps);
-    const PixelCost& pc = cost_[static_cast<size_t>(index(p))];
+    const PixelCost& pc = cost_[static_cast<size_t>(k)];
     if (!out_.evals.pixels.empty()) *out_.evals.at(x, y) = static_cast<float>(pc.evals);
     if (!out_.stage_evals.pixels.empty())
       for (int i = 0; i < kStageCount; ++i) out_.stage_evals.at(x, y)[i] = static_cast<float>(pc.stages[static_cast<size_t>(i)]);
