@@ -37,7 +37,8 @@ struct Lanes {
   // Rule::fixed: the bracket being bisected (while stepping, lo is the last step's start), and whether it is.
   alignas(64) T lo[kMaxPacket], hi[kMaxPacket];
   alignas(64) Int<T> bisecting[kMaxPacket];
-  // Scratch of one step (never compacted): the points and the field's values there.
+  // The points the next evaluation is at (origin + direction t, set where t is: moved by compaction), and the
+  // field's values there (scratch of one step, never compacted).
   alignas(64) T x[kMaxPacket], y[kMaxPacket], z[kMaxPacket], f[kMaxPacket];
 };
 
@@ -122,6 +123,16 @@ typename Simd<T>::I settle(Lanes<T>& l, int i, typename Simd<T>::I& code, typena
   store(l.last_f + i, ends ? v : old_last);
   store(l.code + i, code);
   return live;
+}
+
+// Sets the kWidth lanes from i at t: t and the point there, origin + direction t as march() computes it.
+template <class T>
+void move_to(Lanes<T>& l, int i, typename Simd<T>::V t) {
+  using V = typename Simd<T>::V;
+  store(l.t + i, t);
+  store(l.x + i, load<V>(l.ox + i) + load<V>(l.dx + i) * t);
+  store(l.y + i, load<V>(l.oy + i) + load<V>(l.dy + i) * t);
+  store(l.z + i, load<V>(l.oz + i) + load<V>(l.dz + i) * t);
 }
 
 // The outcomes as lanes, for a feed at step `step`: out_of_steps is miss_steps at the last step, else running.
@@ -210,7 +221,7 @@ int feed_lanes(Lanes<T>& l, int count, int step, const StepRule<T> rule, T eps_a
     code = a <= largest ? code : c.invalid;  // not finite
     const I live = settle(l, i, code, v, t, a, Int<T>(step));
     const I forward = live & (code == moved);  // t moves on: the step taken (or the step back)
-    store(l.t + i, forward ? next : t);
+    move_to(l, i, forward ? next : t);
     if constexpr (Relaxed || Secant) {
       const I stepped = forward & ~back;  // a forward step: the next one's fallback
       if constexpr (Relaxed) store(l.omega + i, back ? one : omega);
@@ -258,7 +269,7 @@ int feed_fixed_lanes(Lanes<T>& l, int count, int step, T fixed_step, T eps_at_0,
     t_next = (splits & at_last_step) ? lo_next : t_next;
     t_next = (ends_here | inside_first | ~finite) ? t : t_next;
     const I live = settle(l, i, code, v, t, a, Int<T>(step));
-    store(l.t + i, live ? t_next : t);
+    move_to(l, i, live ? t_next : t);
     // A lane that ended never reads these again.
     store(l.lo + i, lo_next);
     store(l.hi + i, hi_next);
@@ -311,7 +322,7 @@ int compact(Lanes<T>& l, int count, RayRecord<T>* records, int max_steps, Secant
     for (int k = first; k < kept; ++k) a[k] = a[keep[k]];
   };
   // A running lane's steps and last f are not kept yet (settle), and its code is kRunning.
-  for (T* a : {l.ox, l.oy, l.oz, l.dx, l.dy, l.dz, l.t, l.max_dist, l.min_abs, l.t_at_min}) move(a);
+  for (T* a : {l.ox, l.oy, l.oz, l.dx, l.dy, l.dz, l.t, l.x, l.y, l.z, l.max_dist, l.min_abs, l.t_at_min}) move(a);
   if constexpr (R == Rule::relaxed || Secant) {
     move(l.prev_t);
     move(l.prev_f);
@@ -424,14 +435,9 @@ void march_lanes(const sdf::Tape& tape, const PacketRay<T>* rays, const int* ids
       return feed_lanes<First, R == Rule::relaxed, Secant, false>(l, count, step, rule, eps_at_0, eps_slope,
                                                                    s.max_steps);
   };
+  for (int i = 0; i < n; i += kWidth<T>) move_to(l, i, load<typename Simd<T>::V>(l.t + i));
   int count = n;
   for (int step = 1; count > 0; ++step) {
-    for (int i = 0; i < count; ++i) {
-      // As march(): origin + direction * t.
-      l.x[i] = l.ox[i] + l.dx[i] * l.t[i];
-      l.y[i] = l.oy[i] + l.dy[i] * l.t[i];
-      l.z[i] = l.oz[i] + l.dz[i] * l.t[i];
-    }
     for (int b = 0; b < count; b += sdf::kBatch)
       sdf::evaluate_batch(tape, l.x + b, l.y + b, l.z + b, l.f + b, std::min(sdf::kBatch, count - b));
     const int running = step == 1 ? feed(std::true_type{}, count, step) : feed(std::false_type{}, count, step);
