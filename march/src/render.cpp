@@ -174,11 +174,11 @@ std::optional<glm::dvec3> uniform_color(const sdf::Scene& scene, const sdf::Mate
   return std::nullopt;
 }
 
-glm::dvec3 material_color(const Context& ctx, int material, glm::dvec3 p, glm::dvec3 n) {
+// A textured material's colour at p (outward normal n). Out of line: material_color stays small enough to inline
+// where most colours are uniform (the call and the colour returned through memory were 1.5% of lee-flat's render).
+__attribute__((noinline)) glm::dvec3 textured_color(const Context& ctx, const sdf::Material& m, glm::dvec3 p,
+                                                    glm::dvec3 n) {
   const auto& scene = ctx.scene;
-  if (material < 0) return glm::dvec3(0.8);
-  if (const auto& uniform = ctx.uniform_colors[static_cast<size_t>(material)]) return *uniform;
-  const auto& m = scene.materials[static_cast<size_t>(material)];
   // Looked up just below the surface, as the seed does (p - n * SURF_DIST), in world coordinates.
   const glm::dvec3 q = p + ctx.origin - n * scene.march.hit_eps;
   if (m.texture == sdf::TextureMapping::planar)
@@ -188,6 +188,12 @@ glm::dvec3 material_color(const Context& ctx, int material, glm::dvec3 p, glm::d
   const double u = glm::fract(std::atan2(std::sqrt(r.x * r.x + r.z * r.z), r.y) / std::numbers::pi),
                v = glm::fract(std::atan2(r.z, r.x) / (2 * std::numbers::pi));
   return m.color * sample_texture(texture_path(m), u * m.texture_scale, v * m.texture_scale);
+}
+
+glm::dvec3 material_color(const Context& ctx, int material, glm::dvec3 p, glm::dvec3 n) {
+  if (material < 0) return glm::dvec3(0.8);
+  if (const auto& uniform = ctx.uniform_colors[static_cast<size_t>(material)]) return *uniform;
+  return textured_color(ctx, ctx.scene.materials[static_cast<size_t>(material)], p, n);
 }
 
 // Surface points to light together (structure of arrays), up to N: position, unit normal, eye, albedo, ambient
