@@ -524,10 +524,11 @@ class TileRenderer {
   // The camera's rays, for every pixel at once (bit for bit the ray of each pixel), charged to the march.
   void make_rays() {
     double xs[kTile * kTile], ys[kTile * kTile];
-    for (int k = 0; k < pixels_; ++k) {
-      xs[k] = x0_ + k % w_ + 0.5;
-      ys[k] = y0_ + k / w_ + 0.5;
-    }
+    for (int y = y0_, k = 0; y < y1_; ++y)
+      for (int x = x0_; x < x1_; ++x, ++k) {
+        xs[k] = x + 0.5;
+        ys[k] = y + 0.5;
+      }
     ctx_.camera.rays(xs, ys, pixels_, rays_);
     each([&](PixelState& p, int k) {
       p.origin = V(rays_[k].origin - ctx_.origin);
@@ -738,11 +739,12 @@ class TileRenderer {
         lit.add(VS(at), n, eye, albedo, S(p.ao), p.material, visibility(k));
       }
       direct_light(ctx_, lit);
-      for (int k = first; k < last; ++k) {
+      for (int k = first, x = x0_ + first % w_, y = y0_ + first / w_; k < last; ++k) {
         PixelState& p = px_[static_cast<size_t>(k)];
         const int at = lit_index[k - first];
         const VS color = finish(p, k, at >= 0 ? VS(lit.r[at], lit.g[at], lit.b[at]) : VS(0));
-        write(p, k, glm::dvec3(color));
+        write(p, k, x, y, glm::dvec3(color));
+        if (++x == x1_) x = x0_, ++y;
       }
     }
   }
@@ -785,9 +787,8 @@ class TileRenderer {
     return color;
   }
 
-  // The pixel's colour and the images kept (the others are empty: render's `images`).
-  void write(const PixelState& p, int k, glm::dvec3 color) {
-    const int x = x0_ + k % w_, y = y0_ + k / w_;
+  // Pixel k's (at x, y) colour and the images kept (the others are empty: render's `images`).
+  void write(const PixelState& p, int k, int x, int y, glm::dvec3 color) {
     float* c = out_.color.at(x, y);
     for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(color[i]);
     counters_.steps_max = std::max(counters_.steps_max, p.record.steps);
