@@ -436,6 +436,7 @@ class TileRenderer {
                      !out.steps.pixels.empty() || !out.id.pixels.empty() || !out.outcome.pixels.empty()),
         lights_(ctx.scene.lights.size()) {
     if (per_pixel_cost_) cost_.fill({});
+    std::fill_n(visibility_, pixels_ * lights_, 1.0);  // until the shadow stage finds otherwise
   }
 
   void run() {
@@ -553,10 +554,7 @@ class TileRenderer {
     p.normal = V(mesh.normal);
     p.material = mesh.material;
   }
-  void surface_found(PixelState& p, int k) {
-    p.point = p.origin + p.direction * p.record.t;
-    std::fill_n(visibility(k), lights_, 1.0);
-  }
+  void surface_found(PixelState& p) { p.point = p.origin + p.direction * p.record.t; }
 
   // Surface source one: the marcher, every ray of the tile in one packet. The march stops at the mesh, as the
   // seed's does at the depth buffer's distance.
@@ -573,7 +571,7 @@ class TileRenderer {
       p.record = as_read(marched, s_);
       p.hit = p.record.outcome == Outcome::hit;
       if (const MeshHit* on = mesh(k); on && marched.outcome != Outcome::hit) take_mesh(p, *on);
-      surface_found(p, k);
+      surface_found(p);
       return p.record.evals;
     });
   }
@@ -596,7 +594,7 @@ class TileRenderer {
         p.hit = false;
         take_mesh(p, *on);
       }
-      surface_found(p, k);
+      surface_found(p);
       return 0;
     });
   }

@@ -34,7 +34,7 @@ struct ShadowStart {
 };
 
 template <class T>
-ShadowStart<T> shadow_start(glm::vec<3, T> p, glm::vec<3, T> n, T light_dist, T t_hit, const sdf::Light& light,
+[[gnu::always_inline]] inline ShadowStart<T> shadow_start(glm::vec<3, T> p, glm::vec<3, T> n, T light_dist, T t_hit, const sdf::Light& light,
                             const MarchSettings& s, const MarchContext& c) {
   const T eps = hit_threshold(s, c, t_hit);
   T offset = eps * T(light.bias_factor);
