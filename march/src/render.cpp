@@ -463,8 +463,8 @@ class TileRenderer {
 
  private:
   using V = Vec<T>;
+  // A pixel's march and surface; its ray is beside it (rays_).
   struct PixelState {
-    V origin, direction;
     RayRecord<T> record;
     V point{0};  // the surface point, origin + direction t, once the surface is known
     V normal{0};
@@ -518,8 +518,8 @@ class TileRenderer {
     return ctx_.meshes && meshes_[k].hit ? &meshes_[k] : nullptr;
   }
   // The ray's direction in double, unit length, as the oracle is asked along it (its t is along this).
-  static glm::dvec3 unit_direction(const PixelState& p) {
-    return glm::dvec3(p.direction) / glm::length(glm::dvec3(p.direction));
+  glm::dvec3 unit_direction(int k) const {
+    return glm::dvec3(rays_[k].direction) / glm::length(glm::dvec3(rays_[k].direction));
   }
 
   // The camera's rays, for every pixel at once (bit for bit the ray of each pixel), charged to the march.
@@ -530,19 +530,18 @@ class TileRenderer {
         xs[k] = x + 0.5;
         ys[k] = y + 0.5;
       }
-    ctx_.camera.rays(xs, ys, pixels_, rays_);
-    each([&](PixelState& p, int k) {
-      p.origin = V(rays_[k].origin - ctx_.origin);
-      p.direction = V(rays_[k].direction);
-    });
+    ctx_.camera.rays(xs, ys, pixels_, camera_rays_);
+    for (int k = 0; k < pixels_; ++k)
+      rays_[k] = {V(camera_rays_[k].origin - ctx_.origin), V(camera_rays_[k].direction), s_.max_dist};
     lap(kMarch);
   }
 
   // Meshes are intersected along the camera's rays in double, before any rounding to T.
   void intersect_meshes() {
     stage(kMesh, [&](PixelState&, int k) {
-      const Ray& ray = rays_[k];
+      const Ray& ray = camera_rays_[k];
       meshes_[k] = ctx_.meshes->intersect(ray.origin, ray.direction, s_.max_dist);
+      if (meshes_[k].hit) rays_[k].max_dist = meshes_[k].t;  // the march stops at the mesh
       return 0;
     });
   }
@@ -554,24 +553,19 @@ class TileRenderer {
     p.normal = V(mesh.normal);
     p.material = mesh.material;
   }
-  void surface_found(PixelState& p) { p.point = p.origin + p.direction * p.record.t; }
+  void surface_found(PixelState& p, int k) { p.point = rays_[k].origin + rays_[k].direction * p.record.t; }
 
   // Surface source one: the marcher, every ray of the tile in one packet. The march stops at the mesh, as the
   // seed's does at the depth buffer's distance.
   void marched_surfaces() {
-    PacketRay<T> rays[kTile * kTile];
     Unset<RayRecord<T>> records;
-    each([&](PixelState& p, int k) {
-      const MeshHit* on = mesh(k);
-      rays[k] = {p.origin, p.direction, on ? on->t : s_.max_dist};
-    });
-    march_packet(ctx_.tape, rays, records.data(), pixels_, s_, ctx_.march);
+    march_packet(ctx_.tape, rays_, records.data(), pixels_, s_, ctx_.march);
     stage(kMarch, [&](PixelState& p, int k) {
       const RayRecord<T>& marched = records[k];
       p.record = as_read(marched, s_);
       p.hit = p.record.outcome == Outcome::hit;
       if (const MeshHit* on = mesh(k); on && marched.outcome != Outcome::hit) take_mesh(p, *on);
-      surface_found(p);
+      surface_found(p, k);
       return p.record.evals;
     });
   }
@@ -579,9 +573,9 @@ class TileRenderer {
   // Surface source two: the reference's first hit along each ray, with its exact normal.
   void reference_surfaces() {
     stage(kMarch, [&](PixelState& p, int k) {
-      const double len = glm::length(glm::dvec3(p.direction));
-      const glm::dvec3 origin = glm::dvec3(p.origin) + ctx_.origin;  // the oracle's world
-      const auto hit = ctx_.oracle->first_hit(origin, unit_direction(p), s_.max_dist);
+      const double len = glm::length(glm::dvec3(rays_[k].direction));
+      const glm::dvec3 origin = glm::dvec3(rays_[k].origin) + ctx_.origin;  // the oracle's world
+      const auto hit = ctx_.oracle->first_hit(origin, unit_direction(k), s_.max_dist);
       p.record = {};
       p.record.outcome = hit ? Outcome::hit : Outcome::miss_far;
       p.record.t = hit ? static_cast<T>(hit->t / len) : T(0);
@@ -594,7 +588,7 @@ class TileRenderer {
         p.hit = false;
         take_mesh(p, *on);
       }
-      surface_found(p);
+      surface_found(p, k);
       return 0;
     });
   }
@@ -659,7 +653,7 @@ class TileRenderer {
         if (!surface(p)) return std::uint64_t{0};
         if (!ctx_.oracle || !p.hit) return tracer_.shadows(p.point, p.normal, p.record.t, visibility(k));
         const ReferenceHit& reference = references_[k];
-        tracer_.reference_shadows(glm::dvec3(p.origin) + unit_direction(p) * reference.t, glm::dvec3(p.normal),
+        tracer_.reference_shadows(glm::dvec3(rays_[k].origin) + unit_direction(k) * reference.t, glm::dvec3(p.normal),
                                   reference.lift, visibility(k));
         return std::uint64_t{0};
       });
@@ -707,8 +701,8 @@ class TileRenderer {
   }
 
   // Shading and secondary rays work in double from the ray: the surface point as double computes it.
-  static glm::dvec3 point_in_double(const PixelState& p) {
-    return glm::dvec3(p.origin) + glm::dvec3(p.direction) * static_cast<double>(p.record.t);
+  glm::dvec3 point_in_double(int k) const {
+    return glm::dvec3(rays_[k].origin) + glm::dvec3(rays_[k].direction) * static_cast<double>(px_[k].record.t);
   }
 
   // The tile's colours in arithmetic S (the type of `zero`): its surface pixels lit together in chunks of 64 (so
@@ -728,9 +722,9 @@ class TileRenderer {
         PixelState& p = px_[static_cast<size_t>(k)];
         lit_index[k - first] = -1;
         if (!surface(p) || !lighting) continue;
-        const glm::dvec3 at = point_in_double(p);
+        const glm::dvec3 at = point_in_double(k);
         const VS n(p.normal);
-        const VS eye = effects_.eye_is_ray_direction && !ctx_.oracle ? VS(p.direction) : VS(p.origin);
+        const VS eye = effects_.eye_is_ray_direction && !ctx_.oracle ? VS(rays_[k].direction) : VS(rays_[k].origin);
         const VS albedo =
             pipe_.materials || p.on_mesh ? VS(material_color(ctx_, p.material, at, glm::dvec3(n))) : VS(S(0.8));
         lit_index[k - first] = lit.n;
@@ -774,7 +768,7 @@ class TileRenderer {
     const std::uint64_t reflection = counters_.stages[kReflection].evals;
     const std::uint64_t refraction = counters_.stages[kRefraction].evals;
     const glm::dvec3 color =
-        tracer_.bounce(local, V(point_in_double(p)), p.normal, p.direction, p.material, 0, p.record.t);
+        tracer_.bounce(local, V(point_in_double(k)), p.normal, rays_[k].direction, p.material, 0, p.record.t);
     if (per_pixel_cost_) {
       auto& c = cost_[static_cast<size_t>(k)];
       c.stages[kReflection] += counters_.stages[kReflection].evals - reflection;
@@ -821,7 +815,9 @@ class TileRenderer {
   // Beside the pixels, set and read only where the scene has meshes or the surfaces are the reference's.
   Unset<MeshHit> meshes_;
   Unset<ReferenceHit> references_;
-  Ray rays_[kTile * kTile];
+  Ray camera_rays_[kTile * kTile];  // in double, in world coordinates
+  // As the march takes them: relative to the march's origin, in T, to the scene's max_dist or the mesh's hit.
+  PacketRay<T> rays_[kTile * kTile];
   std::array<PixelCost, kTile * kTile> cost_;
   double visibility_[kTile * kTile * kMaxLights];  // lights_ entries per pixel
   Clock::time_point mark_ = Clock::now();
