@@ -150,7 +150,9 @@ template <class R>
 class Unset {
  public:
   R* data() { return std::launder(reinterpret_cast<R*>(bytes_)); }
+  const R* data() const { return std::launder(reinterpret_cast<const R*>(bytes_)); }
   R& operator[](int i) { return data()[i]; }
+  const R& operator[](int i) const { return data()[i]; }
 
  private:
   alignas(R) unsigned char bytes_[sizeof(R) * kTile * kTile];
@@ -463,9 +465,8 @@ class TileRenderer {
 
  private:
   using V = Vec<T>;
-  // A pixel's march and surface; its ray is beside it (rays_).
+  // A pixel's surface; its ray and its march's record are beside it (rays_, records_).
   struct PixelState {
-    RayRecord<T> record;
     V point{0};  // the surface point, origin + direction t, once the surface is known
     V normal{0};
     int material = -1;
@@ -547,26 +548,25 @@ class TileRenderer {
   }
 
   // The nearest surface is a mesh's where the mesh is nearer than the field's, or the field has none.
-  void take_mesh(PixelState& p, const MeshHit& mesh) {
+  void take_mesh(PixelState& p, int k, const MeshHit& mesh) {
     p.on_mesh = true;
-    p.record.t = static_cast<T>(mesh.t);
+    records_[k].t = static_cast<T>(mesh.t);
     p.normal = V(mesh.normal);
     p.material = mesh.material;
   }
-  void surface_found(PixelState& p, int k) { p.point = rays_[k].origin + rays_[k].direction * p.record.t; }
+  void surface_found(PixelState& p, int k) { p.point = rays_[k].origin + rays_[k].direction * records_[k].t; }
 
   // Surface source one: the marcher, every ray of the tile in one packet. The march stops at the mesh, as the
   // seed's does at the depth buffer's distance.
   void marched_surfaces() {
-    Unset<RayRecord<T>> records;
-    march_packet(ctx_.tape, rays_, records.data(), pixels_, s_, ctx_.march);
+    march_packet(ctx_.tape, rays_, records_.data(), pixels_, s_, ctx_.march);
     stage(kMarch, [&](PixelState& p, int k) {
-      const RayRecord<T>& marched = records[k];
-      p.record = as_read(marched, s_);
-      p.hit = p.record.outcome == Outcome::hit;
-      if (const MeshHit* on = mesh(k); on && marched.outcome != Outcome::hit) take_mesh(p, *on);
+      const bool field_hit = records_[k].outcome == Outcome::hit;  // as marched, before the scene's reading
+      records_[k] = as_read(records_[k], s_);
+      p.hit = records_[k].outcome == Outcome::hit;
+      if (const MeshHit* on = mesh(k); on && !field_hit) take_mesh(p, k, *on);
       surface_found(p, k);
-      return p.record.evals;
+      return records_[k].evals;
     });
   }
 
@@ -576,9 +576,9 @@ class TileRenderer {
       const double len = glm::length(glm::dvec3(rays_[k].direction));
       const glm::dvec3 origin = glm::dvec3(rays_[k].origin) + ctx_.origin;  // the oracle's world
       const auto hit = ctx_.oracle->first_hit(origin, unit_direction(k), s_.max_dist);
-      p.record = {};
-      p.record.outcome = hit ? Outcome::hit : Outcome::miss_far;
-      p.record.t = hit ? static_cast<T>(hit->t / len) : T(0);
+      records_[k] = {};
+      records_[k].outcome = hit ? Outcome::hit : Outcome::miss_far;
+      records_[k].t = hit ? static_cast<T>(hit->t / len) : T(0);
       if (hit) {
         p.normal = V(hit->normal);
         references_[k] = {hit->t, tolerance::reference_hit_slack(origin, hit->t, hit->t_error)};
@@ -586,7 +586,7 @@ class TileRenderer {
       p.hit = hit.has_value();
       if (const MeshHit* on = mesh(k); on && (!hit || on->t < hit->t / len)) {
         p.hit = false;
-        take_mesh(p, *on);
+        take_mesh(p, k, *on);
       }
       surface_found(p, k);
       return 0;
@@ -596,9 +596,9 @@ class TileRenderer {
   void normals() {
     if (s_.normal != NormalMethod::central) {  // the others stay one point at a time
       const TapeField field{&ctx_.tape};
-      stage(kNormal, [&](PixelState& p, int) {
+      stage(kNormal, [&](PixelState& p, int k) {
         if (!p.hit) return 0;
-        const auto n = estimate_normal(field, p.point, s_.normal, normal_epsilon(s_, p.record.t));
+        const auto n = estimate_normal(field, p.point, s_.normal, normal_epsilon(s_, records_[k].t));
         p.normal = n.n;
         return n.evals;
       });
@@ -613,7 +613,7 @@ class TileRenderer {
     each([&](PixelState& p, int k) {
       if (!p.hit) return;
       points[count] = p.point;
-      eps[count] = normal_epsilon(s_, p.record.t);
+      eps[count] = normal_epsilon(s_, records_[k].t);
       which[count++] = k;
     });
     central_normals_packet(ctx_.tape, points, eps, normals.data(), count);
@@ -651,7 +651,7 @@ class TileRenderer {
     if (!batched) {
       stage(kShadow, [&](PixelState& p, int k) {
         if (!surface(p)) return std::uint64_t{0};
-        if (!ctx_.oracle || !p.hit) return tracer_.shadows(p.point, p.normal, p.record.t, visibility(k));
+        if (!ctx_.oracle || !p.hit) return tracer_.shadows(p.point, p.normal, records_[k].t, visibility(k));
         const ReferenceHit& reference = references_[k];
         tracer_.reference_shadows(glm::dvec3(rays_[k].origin) + unit_direction(k) * reference.t, glm::dvec3(p.normal),
                                   reference.lift, visibility(k));
@@ -670,7 +670,7 @@ class TileRenderer {
       each([&](PixelState& p, int k) {
         if (!surface(p)) return;
         const auto [to_light, dist] = toward_light(light, ctx_.light_positions[li], p.point);
-        starts[count] = shadow_start(p.point, p.normal, dist, p.record.t, light, s_, ctx_.march);
+        starts[count] = shadow_start(p.point, p.normal, dist, records_[k].t, light, s_, ctx_.march);
         rays[count] = {starts[count].origin, to_light, starts[count].max_dist};
         which[count++] = k;
       });
@@ -702,7 +702,7 @@ class TileRenderer {
 
   // Shading and secondary rays work in double from the ray: the surface point as double computes it.
   glm::dvec3 point_in_double(int k) const {
-    return glm::dvec3(rays_[k].origin) + glm::dvec3(rays_[k].direction) * static_cast<double>(px_[k].record.t);
+    return glm::dvec3(rays_[k].origin) + glm::dvec3(rays_[k].direction) * static_cast<double>(records_[k].t);
   }
 
   // The tile's colours in arithmetic S (the type of `zero`): its surface pixels lit together in chunks of 64 (so
@@ -748,17 +748,17 @@ class TileRenderer {
     if (!surface(p)) {
       color = VS(effects_.background);
       if (effects_.glow > 0 && !ctx_.oracle) {
-        const S g = std::clamp(S(1) - static_cast<S>(p.record.min_abs_f) / S(effects_.glow_width), S(0), S(1));
+        const S g = std::clamp(S(1) - static_cast<S>(records_[k].min_abs_f) / S(effects_.glow_width), S(0), S(1));
         color += VS(effects_.glow_color) * (S(effects_.glow) * g * g);
       }
       return color;
     }
     if (effects_.ao == sdf::AmbientOcclusion::steps && !ctx_.oracle)
-      color -= VS(S(static_cast<double>(p.record.steps) * p.record.steps * effects_.ao_steps_scale));
+      color -= VS(S(static_cast<double>(records_[k].steps) * records_[k].steps * effects_.ao_steps_scale));
     if (pipe_.reflection || pipe_.refraction) color = VS(bounce(p, k, glm::dvec3(color)));
     color = glm::max(color, VS(0));
     if (effects_.fog > 0)
-      color = glm::mix(VS(effects_.fog_color), color, S(std::exp(-effects_.fog * static_cast<double>(p.record.t))));
+      color = glm::mix(VS(effects_.fog_color), color, S(std::exp(-effects_.fog * static_cast<double>(records_[k].t))));
     return color;
   }
 
@@ -768,7 +768,7 @@ class TileRenderer {
     const std::uint64_t reflection = counters_.stages[kReflection].evals;
     const std::uint64_t refraction = counters_.stages[kRefraction].evals;
     const glm::dvec3 color =
-        tracer_.bounce(local, V(point_in_double(k)), p.normal, rays_[k].direction, p.material, 0, p.record.t);
+        tracer_.bounce(local, V(point_in_double(k)), p.normal, rays_[k].direction, p.material, 0, records_[k].t);
     if (per_pixel_cost_) {
       auto& c = cost_[static_cast<size_t>(k)];
       c.stages[kReflection] += counters_.stages[kReflection].evals - reflection;
@@ -783,20 +783,20 @@ class TileRenderer {
   void write(const PixelState& p, int k, int x, int y, glm::dvec3 color) {
     float* c = out_.color.at(x, y);
     for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(color[i]);
-    counters_.steps_max = std::max(counters_.steps_max, p.record.steps);
+    counters_.steps_max = std::max(counters_.steps_max, records_[k].steps);
     if (!more_images_) return;
-    if (!out_.depth.pixels.empty()) *out_.depth.at(x, y) = surface(p) ? static_cast<float>(p.record.t) : INFINITY;
+    if (!out_.depth.pixels.empty()) *out_.depth.at(x, y) = surface(p) ? static_cast<float>(records_[k].t) : INFINITY;
     if (!out_.normal.pixels.empty()) {
       float* n = out_.normal.at(x, y);
       for (int i = 0; i < 3; ++i) n[i] = static_cast<float>(p.normal[i]);
     }
-    if (!out_.steps.pixels.empty()) *out_.steps.at(x, y) = static_cast<float>(p.record.steps);
+    if (!out_.steps.pixels.empty()) *out_.steps.at(x, y) = static_cast<float>(records_[k].steps);
     const PixelCost& pc = cost_[static_cast<size_t>(k)];
     if (!out_.evals.pixels.empty()) *out_.evals.at(x, y) = static_cast<float>(pc.evals);
     if (!out_.stage_evals.pixels.empty())
       for (int i = 0; i < kStageCount; ++i) out_.stage_evals.at(x, y)[i] = static_cast<float>(pc.stages[static_cast<size_t>(i)]);
     if (!out_.id.pixels.empty()) *out_.id.at(x, y) = static_cast<float>(p.material);
-    if (!out_.outcome.pixels.empty()) *out_.outcome.at(x, y) = static_cast<float>(p.record.outcome);
+    if (!out_.outcome.pixels.empty()) *out_.outcome.at(x, y) = static_cast<float>(records_[k].outcome);
   }
 
   const Context& ctx_;
@@ -815,6 +815,7 @@ class TileRenderer {
   // Beside the pixels, set and read only where the scene has meshes or the surfaces are the reference's.
   Unset<MeshHit> meshes_;
   Unset<ReferenceHit> references_;
+  Unset<RayRecord<T>> records_;  // the march's (its reading), or the reference's
   Ray camera_rays_[kTile * kTile];  // in double, in world coordinates
   // As the march takes them: relative to the march's origin, in T, to the scene's max_dist or the mesh's hit.
   PacketRay<T> rays_[kTile * kTile];
