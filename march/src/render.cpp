@@ -502,18 +502,22 @@ class TileRenderer {
     mark_ = now;
   }
   // Books evaluations a stage spent on pixel p: to the stage, and to the pixel where its cost images are kept.
-  void charge(Stage which, int k, std::uint64_t evals) {
+  // The stage's count adds up in `spent`, a local booked once a pass (through the counters at every pixel, it was a
+  // chain of loads and stores: the pixels' counts are of the same type, so the compiler cannot keep it apart).
+  void charge(Stage which, int k, std::uint64_t evals, std::uint64_t& spent) {
     if (per_pixel_cost_) {
       auto& c = cost_[static_cast<size_t>(k)];
       c.evals += evals;
       c.stages[which] += evals;
     }
-    counters_.stages[which].evals += evals;
+    spent += evals;
   }
   // Runs one stage over the tile, timing it and charging the evaluations it reports.
   template <class Fn>
   void stage(Stage which, Fn&& fn) {
-    each([&](PixelState& p, int k) { charge(which, k, static_cast<std::uint64_t>(fn(p, k))); });
+    std::uint64_t spent = 0;
+    each([&](PixelState& p, int k) { charge(which, k, static_cast<std::uint64_t>(fn(p, k)), spent); });
+    counters_.stages[which].evals += spent;
     lap(which);
   }
   double* visibility(int k) { return visibility_ + static_cast<size_t>(k) * lights_; }
@@ -621,10 +625,12 @@ class TileRenderer {
       which[count++] = k;
     });
     central_normals_packet(ctx_.tape, points, eps, normals.data(), count);
+    std::uint64_t spent = 0;
     for (int i = 0; i < count; ++i) {
       px_[static_cast<size_t>(which[i])].normal = normals[i].n;
-      charge(kNormal, which[i], static_cast<std::uint64_t>(normals[i].evals));
+      charge(kNormal, which[i], static_cast<std::uint64_t>(normals[i].evals), spent);
     }
+    counters_.stages[kNormal].evals += spent;
     lap(kNormal);
   }
 
@@ -641,10 +647,12 @@ class TileRenderer {
     });
     for (int b = 0; b < count; b += sdf::kBatch)
       sdf::sample_batch(ctx_.tape, xs + b, ys + b, zs + b, values + b, materials + b, std::min(sdf::kBatch, count - b));
+    std::uint64_t spent = 0;
     for (int i = 0; i < count; ++i) {
       px_[static_cast<size_t>(which[i])].material = materials[i];
-      charge(kMaterial, which[i], 1);
+      charge(kMaterial, which[i], 1, spent);
     }
+    counters_.stages[kMaterial].evals += spent;
     lap(kMaterial);
   }
 
@@ -667,6 +675,7 @@ class TileRenderer {
     ShadowStart<T> starts[kTile * kTile];
     Unset<RayRecord<T>> records;
     int which[kTile * kTile];
+    std::uint64_t spent = 0;
     for (size_t li = 0; li < lights_; ++li) {
       const auto& light = ctx_.scene.lights[li];
       if (light.shadow == sdf::ShadowMode::none) continue;
@@ -681,9 +690,10 @@ class TileRenderer {
       march_packet(ctx_.tape, rays, records.data(), count, s_, ctx_.march);
       for (int i = 0; i < count; ++i) {
         visibility(which[i])[li] = hard_visibility(records[i], starts[i], light);
-        charge(kShadow, which[i], static_cast<std::uint64_t>(records[i].evals));
+        charge(kShadow, which[i], static_cast<std::uint64_t>(records[i].evals), spent);
       }
     }
+    counters_.stages[kShadow].evals += spent;
     lap(kShadow);
   }
 
