@@ -25,6 +25,13 @@ namespace marchcheck::march {
 Image::Image(int w, int h, int c, float fill)
     : width(w), height(h), channels(c), pixels(static_cast<size_t>(w) * h * c, fill) {}
 
+Image Image::unset(int w, int h, int c) {
+  Image image;
+  image.width = w, image.height = h, image.channels = c;
+  image.pixels.resize(static_cast<size_t>(w) * h * c);  // PixelAllocator::construct with no value: none set
+  return image;
+}
+
 std::string_view to_string(Outcome outcome) {
   switch (outcome) {
     case Outcome::hit: return "hit";
@@ -858,17 +865,17 @@ RenderResult render(const sdf::Scene& scene, const std::vector<Aov>& aovs, const
   if (!scene.meshes.empty()) ctx.meshes = std::make_unique<MeshOccluder>(scene.meshes);
 
   RenderResult out;
-  out.color = Image(w, h, 3);
+  out.color = Image::unset(w, h, 3);
   out.transfer = scene.output_transfer;
   auto keep = [&](Aov aov) { return images == Images::all || std::find(aovs.begin(), aovs.end(), aov) != aovs.end(); };
-  if (keep(Aov::depth)) out.depth = Image(w, h, 1);
-  if (keep(Aov::normal)) out.normal = Image(w, h, 3);
-  if (keep(Aov::steps)) out.steps = Image(w, h, 1);
-  if (keep(Aov::evals)) out.evals = Image(w, h, 1);
-  if (keep(Aov::stages)) out.stage_evals = Image(w, h, kStageCount);
+  if (keep(Aov::depth)) out.depth = Image::unset(w, h, 1);
+  if (keep(Aov::normal)) out.normal = Image::unset(w, h, 3);
+  if (keep(Aov::steps)) out.steps = Image::unset(w, h, 1);
+  if (keep(Aov::evals)) out.evals = Image::unset(w, h, 1);
+  if (keep(Aov::stages)) out.stage_evals = Image::unset(w, h, kStageCount);
   out.stage_names.assign(std::begin(kStageNames), std::end(kStageNames));
-  if (keep(Aov::id)) out.id = Image(w, h, 1);
-  if (images == Images::all) out.outcome = Image(w, h, 1);
+  if (keep(Aov::id)) out.id = Image::unset(w, h, 1);
+  if (images == Images::all) out.outcome = Image::unset(w, h, 1);
 
   const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
   tbb::enumerable_thread_specific<Counters> counters;

@@ -11,6 +11,7 @@
 #include <optional>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace marchcheck::march {
@@ -39,6 +40,15 @@ struct PixelAllocator {
   PixelAllocator(const PixelAllocator<U>&) {}
   T* allocate(std::size_t n) { return static_cast<T*>(allocate_pixels(n * sizeof(T))); }
   void deallocate(T* block, std::size_t n) { free_pixels(block, n * sizeof(T)); }
+  // A sample made without a value is left unset (Image::unset), not zeroed; one made with a value holds it.
+  template <class U>
+  void construct(U* at) noexcept {
+    ::new (static_cast<void*>(at)) U;
+  }
+  template <class U, class A>
+  void construct(U* at, A&& value) {
+    ::new (static_cast<void*>(at)) U(std::forward<A>(value));
+  }
   friend bool operator==(const PixelAllocator&, const PixelAllocator&) { return true; }
 };
 
@@ -47,6 +57,9 @@ struct Image {
   std::vector<float, PixelAllocator<float>> pixels;
   Image() = default;
   Image(int w, int h, int c, float fill = 0);  // every channel of every pixel `fill`
+  // Every sample left unset, for a writer that sets each one: the renderer's tiles, so that no thread fills the
+  // image before they start, and each tile's pages are first touched by the thread that writes them.
+  static Image unset(int w, int h, int c);
   float* at(int x, int y) { return &pixels[(static_cast<size_t>(y) * width + x) * channels]; }
   const float* at(int x, int y) const { return &pixels[(static_cast<size_t>(y) * width + x) * channels]; }
 };
