@@ -467,7 +467,9 @@ namespace marchcheck::march {
 namespace {
 
 // Broken variants: a mesh's pixel left unmarked, so unshaded (march-mesh-surface-unmarked); a ray that misses every
-// mesh taken as a hit on one (march-mesh-miss-taken).
+// mesh taken as a hit on one (march-mesh-miss-taken); the march not stopped at a mesh's hit, so a field surface
+// behind the mesh is taken (march-mesh-march-not-stopped); a packet filled whole marching every ray to the settings'
+// max_dist, past its own end (march-packet-whole-ray-end-ignored).
 TEST(MeshOcclusion, MeshAndFieldHideEachOtherAtTheirExactDistances) {
   // A unit sphere at the origin; a mesh wall at z = 1 over x < 0 (in front of the sphere, whose nearest point
   // is at z = 1) and one at z = -2 over x > 0 (behind it).

@@ -166,7 +166,8 @@ std::vector<std::pair<RayRecord<float>, RayRecord<float>>> packet_and_alone(cons
 // finite, one at a time and in the lanes (march-ray-degenerate-skips-dz); a ray along one axis taken for no
 // direction (march-ray-degenerate-direction-any-zero); a degenerate ray marched in the lanes as well
 // (march-packet-degenerate-kept); the lanes after it keeping their neighbour's max_dist
-// (march-packet-degenerate-shift-forgets-max-dist).
+// (march-packet-degenerate-shift-forgets-max-dist); a packet with a ray of no length filled whole, so that ray is
+// marched a step (march-packet-whole-ignores-reach).
 TEST(Packet, InvalidSettingsAndRaysEndInvalidAsOneRayAtATime) {
   const sdf::Scene scene = sdf::builtin_scene("lee-flat");
   const sdf::Tape tape = sdf::compile(scene.root);
@@ -205,7 +206,8 @@ TEST(Packet, InvalidSettingsAndRaysEndInvalidAsOneRayAtATime) {
 // depth (march-packet-inside-threshold), a relaxed lane's miss decided on its over-relaxed step
 // (march-packet-relaxed-miss-on-relaxed-step), a fixed lane whose bracket forgets a step of f = 0
 // (march-packet-fixed-zero-step-forgotten), one cut short at the midpoint it would evaluate next
-// (march-packet-fixed-cut-short-at-mid), a secant step one past max_steps (march-packet-secant-past-last-step).
+// (march-packet-fixed-cut-short-at-mid), a secant step one past max_steps (march-packet-secant-past-last-step),
+// compaction leaving the lanes' next points behind (march-packet-compaction-leaves-points).
 TEST(Packet, LanesEndAsOneRayAtATimeAtTheRulesEdges) {
   const sdf::Tape tape = sdf::compile(sdf::plane({0, 1, 0}, 0));
   const MarchContext c;

@@ -133,7 +133,8 @@ TEST_P(EveryBuiltin, SceneFileRendersTheSameImageBitForBit) {
 }
 
 // Keeping only the asked-for images changes no pixel and no count: the images left out are merely not written.
-// Broken variant: the depth image, asked for alone, never written (march-depth-image-skipped).
+// Broken variants: the depth image, asked for alone, never written (march-depth-image-skipped); a thread's most
+// steps taken from the last tile it rendered, not from all of them (march-steps-max-last-tile).
 TEST_P(EveryBuiltin, KeepingOnlyAskedImagesChangesNothingElse) {
   const sdf::Scene scene = small(GetParam(), 64, 36);
   const RenderResult all = render(scene, {Aov::depth}), asked = render(scene, {Aov::depth}, nullptr, Images::asked);
@@ -147,6 +148,8 @@ TEST_P(EveryBuiltin, KeepingOnlyAskedImagesChangesNothingElse) {
   EXPECT_EQ(cost_metrics(asked).at("cost.steps_max"), cost_metrics(all).at("cost.steps_max"));
 }
 
+// The stages' totals are the sum of the pixels' counts. Broken variant: the packets' shadow evaluations charged to
+// the pixels but never booked to the shadow stage (march-shadow-evals-unbooked).
 TEST_P(EveryBuiltin, EvaluationCountsAddUpAndNoPixelIsNaN) {
   const RenderResult r = render(small(GetParam(), 64, 36));
   const double per_pixel_sum = std::accumulate(r.evals.pixels.begin(), r.evals.pixels.end(), 0.0);
