@@ -482,27 +482,30 @@ void march_packet(const sdf::Tape& tape, const PacketRay<T>* rays, RayRecord<T>*
   const bool clipped = s.clip != sdf::Clip::none;
   for (int base = 0; base < n; base += kMaxPacket) {
     const int m = std::min(kMaxPacket, n - base);
-    // The usual case: every ray marched over all of its length (march_lanes without ids).
+    // The usual case: every ray marched over all of its length, the lanes filled from consecutive rays (march_lanes
+    // without ids).
     int reaching = 0;
     for (int i = 0; i < m; ++i) reaching += rays[base + i].max_dist > 0;
     const bool whole = !settings_bad && !clipped && reaching == m;
     int count = whole ? m : 0;
-    for (int i = 0; i < m && !whole; ++i) {
-      const PacketRay<T>& ray = rays[base + i];
-      // Rare: one point at a time (with no step allowed, or outside the clip box, march() ends the ray without
-      // evaluating). Each ray's span is found once, here (unclipped: all of it, as clip_span gives it).
-      // Degenerate rays too, which the lanes find (drop_degenerate) unless the ray is clipped first.
-      bool marchable = (!settings_bad) & (ray.max_dist > 0);
-      Span<T> span{T(0), static_cast<T>(ray.max_dist)};
-      if (marchable && clipped) {
-        marchable = !detail::ray_degenerate(ray.origin, ray.direction, T(0));
-        if (marchable) span = clip_span(s, c, ray.origin, ray.direction, T(0), static_cast<T>(ray.max_dist));
-      }
-      if (!marchable || span.empty()) {
-        records[base + i] = march_alone(tape, ray, s, c);
-      } else {
-        active[count] = i;
-        spans[count++] = span;
+    if (!whole) {  // each ray sorted: marched alone, or in the lanes over its span
+      for (int i = 0; i < m; ++i) {
+        const PacketRay<T>& ray = rays[base + i];
+        // Rare: one point at a time (with no step allowed, or outside the clip box, march() ends the ray without
+        // evaluating). Each ray's span is found once, here (unclipped: all of it, as clip_span gives it).
+        // Degenerate rays too, which the lanes find (drop_degenerate) unless the ray is clipped first.
+        bool marchable = (!settings_bad) & (ray.max_dist > 0);
+        Span<T> span{T(0), static_cast<T>(ray.max_dist)};
+        if (marchable && clipped) {
+          marchable = !detail::ray_degenerate(ray.origin, ray.direction, T(0));
+          if (marchable) span = clip_span(s, c, ray.origin, ray.direction, T(0), static_cast<T>(ray.max_dist));
+        }
+        if (!marchable || span.empty()) {
+          records[base + i] = march_alone(tape, ray, s, c);
+        } else {
+          active[count] = i;
+          spans[count++] = span;
+        }
       }
     }
     const bool relaxed = s.marcher == Marcher::relaxed, secant = s.refine == sdf::HitRefine::secant;

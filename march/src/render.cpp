@@ -456,7 +456,7 @@ class TileRenderer {
     } else {
       marched_surfaces();
     }
-    // In a local, not through the counters once a pixel: that made a chain of loads and stores (2% of lee-flat).
+    // In a local, not through the counters at every pixel (a chain of loads and stores, 16% of shade's samples).
     int steps_max = 0;
     for (int k = 0; k < pixels_; ++k) steps_max = std::max(steps_max, records_[k].steps);
     counters_.steps_max = std::max(counters_.steps_max, steps_max);
@@ -502,15 +502,17 @@ class TileRenderer {
   void each(Fn&& fn) {
     for (int k = 0; k < pixels_; ++k) fn(px_[static_cast<size_t>(k)], k);
   }
-  // Stage times as laps: each stage's end is the next one's start (one clock reading per pass, not two).
-  void lap(Stage which) {
+  // Books a pass of a stage: its time as a lap (each stage's end is the next one's start: one clock reading per pass,
+  // not two), and the evaluations it spent, added up in a local by charge.
+  void lap(Stage which, std::uint64_t spent = 0) {
     const auto now = Clock::now();
     counters_.stages[which].seconds += std::chrono::duration<double>(now - mark_).count();
+    counters_.stages[which].evals += spent;
     mark_ = now;
   }
-  // Books evaluations a stage spent on pixel p: to the stage, and to the pixel where its cost images are kept.
-  // The stage's count adds up in `spent`, a local booked once a pass (through the counters at every pixel, it was a
-  // chain of loads and stores: the pixels' counts are of the same type, so the compiler cannot keep it apart).
+  // Books evaluations a stage spent on pixel k: to the pixel where its cost images are kept, and to `spent`, the pass's
+  // local sum that lap books (added to the counters at every pixel, it was a chain of loads and stores: the pixels'
+  // counts are of the same type, so the compiler could not keep it in a register).
   void charge(Stage which, int k, std::uint64_t evals, std::uint64_t& spent) {
     if (per_pixel_cost_) {
       auto& c = cost_[static_cast<size_t>(k)];
@@ -524,8 +526,7 @@ class TileRenderer {
   void stage(Stage which, Fn&& fn) {
     std::uint64_t spent = 0;
     each([&](PixelState& p, int k) { charge(which, k, static_cast<std::uint64_t>(fn(p, k)), spent); });
-    counters_.stages[which].evals += spent;
-    lap(which);
+    lap(which, spent);
   }
   double* visibility(int k) { return visibility_ + static_cast<size_t>(k) * lights_; }
   bool surface(const PixelState& p) const { return p.hit || p.on_mesh; }
@@ -637,8 +638,7 @@ class TileRenderer {
       px_[static_cast<size_t>(which[i])].normal = normals[i].n;
       charge(kNormal, which[i], static_cast<std::uint64_t>(normals[i].evals), spent);
     }
-    counters_.stages[kNormal].evals += spent;
-    lap(kNormal);
+    lap(kNormal, spent);
   }
 
   void materials() {
@@ -659,8 +659,7 @@ class TileRenderer {
       px_[static_cast<size_t>(which[i])].material = materials[i];
       charge(kMaterial, which[i], 1, spent);
     }
-    counters_.stages[kMaterial].evals += spent;
-    lap(kMaterial);
+    lap(kMaterial, spent);
   }
 
   // Hard shadows march in packets, one per light; soft ones (and the reference's) one ray at a time.
@@ -700,8 +699,7 @@ class TileRenderer {
         charge(kShadow, which[i], static_cast<std::uint64_t>(records[i].evals), spent);
       }
     }
-    counters_.stages[kShadow].evals += spent;
-    lap(kShadow);
+    lap(kShadow, spent);
   }
 
   void ambient_occlusion() {
