@@ -1,11 +1,15 @@
 #include "marchcheck/march/packet.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
 #include <utility>
 #include <limits>
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
 
 namespace marchcheck::march {
 
@@ -102,6 +106,22 @@ typename Simd<T>::V abs_lanes(typename Simd<T>::V v) {
   return reinterpret_cast<typename Simd<T>::V>(reinterpret_cast<I>(v) & magnitude);
 }
 
+// Whether any lane of a comparison's result is set: one test of the whole vector where the target has one.
+template <class T>
+bool any_lane(typename Simd<T>::I m) {
+#if defined(__AVX512F__)
+  const __m512i bits = reinterpret_cast<__m512i>(m);
+  return _mm512_test_epi64_mask(bits, bits) != 0;
+#elif defined(__AVX__)
+  const __m256i bits = reinterpret_cast<__m256i>(m);
+  return !_mm256_testz_si256(bits, bits);
+#else
+  Int<T> any = 0;
+  for (int k = 0; k < kWidth<T>; ++k) any |= m[k];
+  return any != 0;
+#endif
+}
+
 // The part of a step every rule shares, detail::Tracker::saw and end, for the kWidth lanes from i: they saw v at t
 // and want `code` (already kRunning, or how they end). A lane that had ended keeps its code; its code, steps and
 // last f change only when it ends (so compaction need not move them for running lanes). Returns which lanes were
@@ -111,17 +131,21 @@ typename Simd<T>::I settle(Lanes<T>& l, int i, typename Simd<T>::I& code, typena
                            typename Simd<T>::V t, typename Simd<T>::V a, Int<T> step) {
   using V = typename Simd<T>::V;
   using I = typename Simd<T>::I;
-  const I old = load<I>(l.code + i), old_steps = load<I>(l.steps + i);
-  const V old_min = load<V>(l.min_abs + i), old_t_at_min = load<V>(l.t_at_min + i), old_last = load<V>(l.last_f + i);
+  const I old = load<I>(l.code + i);
+  const V old_min = load<V>(l.min_abs + i), old_t_at_min = load<V>(l.t_at_min + i);
   const I live = old == kRunning;
   const I better = live & (a < old_min);
   code = live ? code : old;
   const I ends = code != old;
   store(l.t_at_min + i, better ? t : old_t_at_min);
   store(l.min_abs + i, better ? a : old_min);
-  store(l.steps + i, ends ? I{} + step : old_steps);
-  store(l.last_f + i, ends ? v : old_last);
-  store(l.code + i, code);
+  // Few steps end a lane: the three stores only at those (the feeds are bound by their stores).
+  if (any_lane<T>(ends)) {
+    const I old_steps = load<I>(l.steps + i);
+    store(l.steps + i, ends ? I{} + step : old_steps);
+    store(l.last_f + i, ends ? v : load<V>(l.last_f + i));
+    store(l.code + i, code);
+  }
   return live;
 }
 
@@ -279,22 +303,54 @@ int feed_fixed_lanes(Lanes<T>& l, int count, int step, T fixed_step, T eps_at_0,
   return still.total();
 }
 
+// The lanes of `v` where `keep` is set, packed to the front in order; the rest zero. AVX-512 has it as one
+// instruction (a compress from register to register); elsewhere lane by lane.
+template <class I>
+I packed(I v, I keep) {
+  constexpr int kLanes = static_cast<int>(sizeof(I) / sizeof(v[0]));
+#if defined(__AVX512F__)
+  if constexpr (sizeof(I) == 64) {
+    const __m512i bits = reinterpret_cast<__m512i>(v), which = reinterpret_cast<__m512i>(keep);
+    if constexpr (kLanes == 16)
+      return reinterpret_cast<I>(_mm512_maskz_compress_epi32(_mm512_test_epi32_mask(which, which), bits));
+    else
+      return reinterpret_cast<I>(_mm512_maskz_compress_epi64(_mm512_test_epi64_mask(which, which), bits));
+  }
+#endif
+  I out{};
+  for (int k = 0, j = 0; k < kLanes; ++k)
+    if (keep[k]) out[j++] = v[k];
+  return out;
+}
+
 // Writes the records of the lanes that ended (Secant: a hit with a step left and a secant root apart from where it
 // stopped joins `roots`) and packs the running ones to the front; returns their count.
-// Branch-free index lists first, then one plain loop per array: a lane's fate is not predictable.
+// A vector of lanes at a time (packed): the ended lanes' numbers into a list, then every row the lanes keep, as
+// their bits. Lane by lane, as loops over index lists, compaction had been a third of the relaxed marcher's
+// bookkeeping: it is a cost per ray, which the relaxed marcher's fewer evaluations do not share.
 template <Rule R, bool Secant, class T>
 int compact(Lanes<T>& l, int count, RayRecord<T>* records, int max_steps, SecantRoots<T>& roots) {
-  int keep[kMaxPacket], ended[kMaxPacket];
-  int kept = 0, done = 0;
-  for (int i = 0; i < count; ++i) {
-    const bool running = l.code[i] == kRunning;
-    keep[kept] = i;
-    ended[done] = i;
-    kept += running;
-    done += !running;
+  using I = typename Simd<T>::I;
+  I lane{};
+  for (int k = 0; k < kWidth<T>; ++k) lane[k] = k;
+  const auto in_packet = [&](int i) { return lane < count - i; };  // of the vector from lane i
+  const auto running = [&](int i) { return (load<I>(l.code + i) == kRunning) & in_packet(i); };
+  const auto lanes_set = [](I m) {
+    int n = 0;
+    for (int k = 0; k < kWidth<T>; ++k) n -= static_cast<int>(m[k]);
+    return n;
+  };
+  // Each vector is stored whole, from where the list (or the packed rows below) has got to, at most lane i: the
+  // lanes past the end are overwritten next, or never read.
+  alignas(64) Int<T> ended[kMaxPacket];
+  int done = 0;
+  for (int i = 0; i < count; i += kWidth<T>) {
+    const I ends = ~running(i) & in_packet(i);
+    store(ended + done, packed(lane + i, ends));
+    done += lanes_set(ends);
   }
   for (int e = 0; e < done; ++e) {
-    const int i = ended[e];
+    const auto i = ended[e];
     RayRecord<T>& r = records[l.id[i]];
     r.outcome = static_cast<Outcome>(l.code[i]);
     r.t = l.t[i];
@@ -315,26 +371,32 @@ int compact(Lanes<T>& l, int count, RayRecord<T>* records, int max_steps, Secant
       }
     }
   }
-  // In place: keep[k] >= k and rises, so each entry is read before it is overwritten.
-  int first = 0;  // the lanes before the first ended one stay where they are
-  while (first < kept && keep[first] == first) ++first;
-  const auto move = [&](auto* a) {
-    for (int k = first; k < kept; ++k) a[k] = a[keep[k]];
+  // The rows moved: a running lane's steps and last f are not kept yet (settle), and its code is kRunning (set below).
+  const auto moved_rows = [&](auto&& move) {
+    for (T* a : {l.ox, l.oy, l.oz, l.dx, l.dy, l.dz, l.t, l.x, l.y, l.z, l.max_dist, l.min_abs, l.t_at_min}) move(a);
+    if constexpr (R == Rule::relaxed || Secant) {
+      move(l.prev_t);
+      move(l.prev_f);
+    }
+    if constexpr (R == Rule::relaxed) move(l.omega);
+    if constexpr (R == Rule::fixed) {
+      move(l.lo);
+      move(l.hi);
+      move(l.bisecting);
+    }
+    move(l.id);
   };
-  // A running lane's steps and last f are not kept yet (settle), and its code is kRunning.
-  for (T* a : {l.ox, l.oy, l.oz, l.dx, l.dy, l.dz, l.t, l.x, l.y, l.z, l.max_dist, l.min_abs, l.t_at_min}) move(a);
-  if constexpr (R == Rule::relaxed || Secant) {
-    move(l.prev_t);
-    move(l.prev_f);
+  int kept = 0;
+  for (int i = 0; i < count; i += kWidth<T>) {
+    const I keep = running(i);
+    const int n = lanes_set(keep);
+    // In place: the vector is read before any lane past it is written (kept <= i). Where every lane of it runs and
+    // none before it ended, it stays.
+    if (kept != i || n != std::min(kWidth<T>, count - i))
+      moved_rows([&](auto* row) { store(row + kept, packed(load<I>(row + i), keep)); });
+    kept += n;
   }
-  if constexpr (R == Rule::relaxed) move(l.omega);
-  if constexpr (R == Rule::fixed) {
-    move(l.lo);
-    move(l.hi);
-    move(l.bisecting);
-  }
-  move(l.id);
-  std::fill_n(l.code + first, kept - first, Int<T>(kRunning));
+  std::fill_n(l.code, kept, Int<T>(kRunning));
   return kept;
 }
 
