@@ -108,7 +108,9 @@ class EveryBuiltinPacket : public ::testing::TestWithParam<std::string> {};
 // whatever the clip (march-packet-clip-ignored), relaxed lanes whose unbounding spheres ignore L on the L > 1
 // built-ins (march-packet-relaxed-radius-unscaled), relaxed lanes whose unbounding spheres ignore a declared
 // perturbation (march-packet-perturbed-radii-plain; on the fields that declare one, stepped by it), lanes that take
-// only the plain step where a perturbation is declared (march-packet-perturbation-never-seen).
+// only the plain step where a perturbation is declared (march-packet-perturbation-never-seen), compaction that leaves
+// a vector of running lanes behind where lanes before it ended (march-packet-compaction-vector-left-behind), lanes
+// whose end is stored only where the first lane of their vector ends (march-packet-ended-lanes-unrecorded).
 TEST_P(EveryBuiltinPacket, SameOutcomesStepsEvaluationsNormalsAndShadowsAsOneRayAtATime) {
   for (const std::string marcher : {"own", "relaxed", "fixed", "secant", "relaxed+secant", "clip", "relaxed+perturbed"}) {
     sdf::Scene scene = sdf::builtin_scene(GetParam());
@@ -207,7 +209,8 @@ TEST(Packet, InvalidSettingsAndRaysEndInvalidAsOneRayAtATime) {
 // (march-packet-relaxed-miss-on-relaxed-step), a fixed lane whose bracket forgets a step of f = 0
 // (march-packet-fixed-zero-step-forgotten), one cut short at the midpoint it would evaluate next
 // (march-packet-fixed-cut-short-at-mid), a secant step one past max_steps (march-packet-secant-past-last-step),
-// compaction leaving the lanes' next points behind (march-packet-compaction-leaves-points).
+// compaction leaving the lanes' next points behind (march-packet-compaction-leaves-points), compaction taking the
+// padding past the packet's last ray for ended rays (march-packet-compaction-ended-past-count).
 TEST(Packet, LanesEndAsOneRayAtATimeAtTheRulesEdges) {
   const sdf::Tape tape = sdf::compile(sdf::plane({0, 1, 0}, 0));
   const MarchContext c;
