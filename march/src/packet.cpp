@@ -29,21 +29,27 @@ using Int = std::conditional_t<sizeof(T) == 4, std::int32_t, std::int64_t>;
 // FixedTrace's steps and bisection (fixed).
 enum class Rule { sphere, relaxed, fixed };
 
+// A row of lanes: kMaxPacket of them and 64 bytes more, so that no two rows start at the same offset in a 4 KiB
+// page (rows of 256 floats, 1 KiB, did every fourth row): a load whose address matches a pending store's in its
+// low 12 bits can wait for that store, and the feeds store to the rows beside those they load.
+template <class T>
+constexpr int kRow = kMaxPacket + 64 / static_cast<int>(sizeof(T));
+
 template <class T>
 struct Lanes {
-  alignas(64) T ox[kMaxPacket], oy[kMaxPacket], oz[kMaxPacket], dx[kMaxPacket], dy[kMaxPacket], dz[kMaxPacket];
+  alignas(64) T ox[kRow<T>], oy[kRow<T>], oz[kRow<T>], dx[kRow<T>], dy[kRow<T>], dz[kRow<T>];
   // last_f: the field where the lane ended (signed: a hit's secant root needs it).
-  alignas(64) T t[kMaxPacket], max_dist[kMaxPacket], min_abs[kMaxPacket], t_at_min[kMaxPacket], last_f[kMaxPacket];
-  alignas(64) Int<T> steps[kMaxPacket], code[kMaxPacket], id[kMaxPacket];
+  alignas(64) T t[kRow<T>], max_dist[kRow<T>], min_abs[kRow<T>], t_at_min[kRow<T>], last_f[kRow<T>];
+  alignas(64) Int<T> steps[kRow<T>], code[kRow<T>], id[kRow<T>];
   // The last forward step's start and f (the relaxed marcher's fallback, the secant's other sample); the relaxed
   // marcher's factor (1 once it stepped back).
-  alignas(64) T prev_t[kMaxPacket], prev_f[kMaxPacket], omega[kMaxPacket];
+  alignas(64) T prev_t[kRow<T>], prev_f[kRow<T>], omega[kRow<T>];
   // Rule::fixed: the bracket being bisected (while stepping, lo is the last step's start), and whether it is.
-  alignas(64) T lo[kMaxPacket], hi[kMaxPacket];
-  alignas(64) Int<T> bisecting[kMaxPacket];
+  alignas(64) T lo[kRow<T>], hi[kRow<T>];
+  alignas(64) Int<T> bisecting[kRow<T>];
   // The points the next evaluation is at (origin + direction t, set where t is: moved by compaction), and the
   // field's values there (scratch of one step, never compacted).
-  alignas(64) T x[kMaxPacket], y[kMaxPacket], z[kMaxPacket], f[kMaxPacket];
+  alignas(64) T x[kRow<T>], y[kRow<T>], z[kRow<T>], f[kRow<T>];
 };
 
 // HitRefine::secant: the hits whose secant root is still to be evaluated, one evaluation after the lanes ended (as
