@@ -128,6 +128,20 @@ bool any_lane(typename Simd<T>::I m) {
 #endif
 }
 
+// How many lanes of a comparison's result are set: a count of the mask's bits where the target has masks.
+template <class T>
+int lanes_set(typename Simd<T>::I m) {
+#if defined(__AVX512F__)
+  const __m512i bits = reinterpret_cast<__m512i>(m);
+  if constexpr (kWidth<T> == 16) return __builtin_popcount(_mm512_test_epi32_mask(bits, bits));
+  else return __builtin_popcount(_mm512_test_epi64_mask(bits, bits));
+#else
+  int n = 0;
+  for (int k = 0; k < kWidth<T>; ++k) n -= static_cast<int>(m[k]);
+  return n;
+#endif
+}
+
 // The part of a step every rule shares, detail::Tracker::saw and end, for the kWidth lanes from i: they saw v at t
 // and want `code` (already kRunning, or how they end). A lane that had ended keeps its code; its code, steps and
 // last f change only when it ends (so compaction need not move them for running lanes). Returns which lanes were
@@ -181,18 +195,15 @@ struct LaneCodes {
 template <class T>
 class RunningTally {
   using I = typename Simd<T>::I;
-  I lane_{}, running_{};  // lane numbers 0 to kWidth - 1; -1 a lane counted
+  I lane_{};  // lane numbers 0 to kWidth - 1
+  int running_ = 0;
 
  public:
   RunningTally() {
     for (int k = 0; k < kWidth<T>; ++k) lane_[k] = k;
   }
-  void add(I code, int i, int count) { running_ += (code == kRunning) & (lane_ < count - i); }
-  int total() const {
-    Int<T> sum = 0;
-    for (int k = 0; k < kWidth<T>; ++k) sum -= running_[k];
-    return static_cast<int>(sum);
-  }
+  void add(I code, int i, int count) { running_ += lanes_set<T>((code == kRunning) & (lane_ < count - i)); }
+  int total() const { return running_; }
 };
 
 // SphereTrace::feed for every lane at once (Relaxed: with its over-relaxation and step back, else omega = 1;
@@ -341,11 +352,6 @@ int compact(Lanes<T>& l, int count, RayRecord<T>* records, int max_steps, Secant
   for (int k = 0; k < kWidth<T>; ++k) lane[k] = k;
   const auto in_packet = [&](int i) { return lane < count - i; };  // of the vector from lane i
   const auto running = [&](int i) { return (load<I>(l.code + i) == kRunning) & in_packet(i); };
-  const auto lanes_set = [](I m) {
-    int n = 0;
-    for (int k = 0; k < kWidth<T>; ++k) n -= static_cast<int>(m[k]);
-    return n;
-  };
   // Each vector is stored whole, from where the list (or the packed rows below) has got to, at most lane i: the
   // lanes past the end are overwritten next, or never read.
   alignas(64) Int<T> ended[kMaxPacket];
@@ -353,7 +359,7 @@ int compact(Lanes<T>& l, int count, RayRecord<T>* records, int max_steps, Secant
   for (int i = 0; i < count; i += kWidth<T>) {
     const I ends = ~running(i) & in_packet(i);
     store(ended + done, packed(lane + i, ends));
-    done += lanes_set(ends);
+    done += lanes_set<T>(ends);
   }
   for (int e = 0; e < done; ++e) {
     const auto i = ended[e];
@@ -395,7 +401,7 @@ int compact(Lanes<T>& l, int count, RayRecord<T>* records, int max_steps, Secant
   int kept = 0;
   for (int i = 0; i < count; i += kWidth<T>) {
     const I keep = running(i);
-    const int n = lanes_set(keep);
+    const int n = lanes_set<T>(keep);
     // In place: the vector is read before any lane past it is written (kept <= i). Where every lane of it runs and
     // none before it ended, it stays.
     if (kept != i || n != std::min(kWidth<T>, count - i))
