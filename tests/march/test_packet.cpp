@@ -110,7 +110,8 @@ class EveryBuiltinPacket : public ::testing::TestWithParam<std::string> {};
 // perturbation (march-packet-perturbed-radii-plain; on the fields that declare one, stepped by it), lanes that take
 // only the plain step where a perturbation is declared (march-packet-perturbation-never-seen), compaction that leaves
 // a vector of running lanes behind where lanes before it ended (march-packet-compaction-vector-left-behind), lanes
-// whose end is stored only where the first lane of their vector ends (march-packet-ended-lanes-unrecorded).
+// whose end is stored only where the first lane of their vector ends (march-packet-ended-lanes-unrecorded), running
+// lanes counted in only the low half of a vector (march-packet-lanes-set-half).
 TEST_P(EveryBuiltinPacket, SameOutcomesStepsEvaluationsNormalsAndShadowsAsOneRayAtATime) {
   for (const std::string marcher : {"own", "relaxed", "fixed", "secant", "relaxed+secant", "clip", "relaxed+perturbed"}) {
     sdf::Scene scene = sdf::builtin_scene(GetParam());
