@@ -248,6 +248,8 @@ TEST_F(AtomicFile, APngIsWrittenWithoutLoadingOpenImageIO) {
     std::ifstream maps("/proc/self/maps");
     return std::string(std::istreambuf_iterator<char>(maps), {}).find("libOpenImageIO") != std::string::npos;
   };
+  // ctest runs each test in a process of its own; all of test_march in one process has loaded it by now.
+  if (loaded()) GTEST_SKIP() << "an earlier test in this process loaded OpenImageIO";
   write_image(Image(4, 4, 3, 0.5f), path("a.png"));
   EXPECT_FALSE(loaded());
   write_image(Image(4, 4, 3, 0.5f), path("a.exr"));
