@@ -1,7 +1,6 @@
 #include "marchcheck/march/packet.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
