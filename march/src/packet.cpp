@@ -111,22 +111,6 @@ typename Simd<T>::V abs_lanes(typename Simd<T>::V v) {
   return reinterpret_cast<typename Simd<T>::V>(reinterpret_cast<I>(v) & magnitude);
 }
 
-// Whether any lane of a comparison's result is set: one test of the whole vector where the target has one.
-template <class T>
-bool any_lane(typename Simd<T>::I m) {
-#if defined(__AVX512F__)
-  const __m512i bits = reinterpret_cast<__m512i>(m);
-  return _mm512_test_epi64_mask(bits, bits) != 0;
-#elif defined(__AVX__)
-  const __m256i bits = reinterpret_cast<__m256i>(m);
-  return !_mm256_testz_si256(bits, bits);
-#else
-  Int<T> any = 0;
-  for (int k = 0; k < kWidth<T>; ++k) any |= m[k];
-  return any != 0;
-#endif
-}
-
 // How many lanes of a comparison's result are set: a count of the mask's bits where the target has masks.
 template <class T>
 int lanes_set(typename Simd<T>::I m) {
@@ -159,7 +143,7 @@ typename Simd<T>::I settle(Lanes<T>& l, int i, typename Simd<T>::I& code, typena
   store(l.t_at_min + i, better ? t : old_t_at_min);
   store(l.min_abs + i, better ? a : old_min);
   // Few steps end a lane: the three stores only at those (the feeds are bound by their stores).
-  if (any_lane<T>(ends)) {
+  if (lanes_set<T>(ends) != 0) {
     const I old_steps = load<I>(l.steps + i);
     store(l.steps + i, ends ? I{} + step : old_steps);
     store(l.last_f + i, ends ? v : load<V>(l.last_f + i));
@@ -188,22 +172,27 @@ struct LaneCodes {
       : out_of_steps(I{} + (step >= max_steps ? Int<T>(Outcome::miss_steps) : Int<T>(kRunning))) {}
 };
 
-// The number of lanes still running, counted over a feed's pass. The feeds run over the lanes from 0 to count
-// rounded up to whole vectors: those past count are stale copies or padding, computed and stored like the rest but
-// never read into a record, and left out here (in the vector from lane i, those with lane number >= count - i).
+// The lane numbers 0 to kWidth - 1.
 template <class T>
-class RunningTally {
-  using I = typename Simd<T>::I;
-  I lane_{};  // lane numbers 0 to kWidth - 1
-  int running_ = 0;
+typename Simd<T>::I lane_numbers() {
+  typename Simd<T>::I lane{};
+  for (int k = 0; k < kWidth<T>; ++k) lane[k] = k;
+  return lane;
+}
 
- public:
-  RunningTally() {
-    for (int k = 0; k < kWidth<T>; ++k) lane_[k] = k;
-  }
-  void add(I code, int i, int count) { running_ += lanes_set<T>((code == kRunning) & (lane_ < count - i)); }
-  int total() const { return running_; }
-};
+// Which of the lanes from lane i have `count` past them: the passes run over the lanes from 0 to count rounded up to
+// whole vectors, and those past count are stale copies or padding, computed and stored like the rest but never read
+// into a record.
+template <class T>
+typename Simd<T>::I in_packet(int i, int count) {
+  return lane_numbers<T>() < count - i;
+}
+
+// Which of the lanes from lane i, with codes `code`, are still running.
+template <class T>
+typename Simd<T>::I running_lanes(typename Simd<T>::I code, int i, int count) {
+  return (code == kRunning) & in_packet<T>(i, count);
+}
 
 // SphereTrace::feed for every lane at once (Relaxed: with its over-relaxation and step back, else omega = 1;
 // Secant: keeping the samples a hit's secant root is taken from); the same expressions in the same order. All
@@ -227,7 +216,7 @@ int feed_lanes(Lanes<T>& l, int count, int step, const StepRule<T> rule, T eps_a
   const V one = V{} + T(1);
   const T largest = std::numeric_limits<T>::max();
   const LaneCodes<T> c(step, max_steps);
-  RunningTally<T> still;
+  int still = 0;  // the lanes still running
   for (int i = 0; i < count; i += kWidth<T>) {
     const V v = load<V>(l.f + i), t = load<V>(l.t + i), a = abs_lanes<T>(v);
     const V eps = eps_at_0 + eps_slope * t;  // hit_threshold: each mode is a + b t with an exact zero term
@@ -268,9 +257,9 @@ int feed_lanes(Lanes<T>& l, int count, int step, const StepRule<T> rule, T eps_a
       store(l.prev_t + i, stepped ? t : prev_t);
       store(l.prev_f + i, stepped ? v : prev_f);
     }
-    still.add(code, i, count);
+    still += lanes_set<T>(running_lanes<T>(code, i, count));
   }
-  return still.total();
+  return still;
 }
 
 // FixedTrace::feed for every lane at once: steps of fixed_step; a step that lands inside (f below -threshold)
@@ -285,7 +274,7 @@ int feed_fixed_lanes(Lanes<T>& l, int count, int step, T fixed_step, T eps_at_0,
   const T largest = std::numeric_limits<T>::max();
   const LaneCodes<T> c(step, max_steps);
   const I at_last_step = I{} - Int<T>(step >= max_steps), first = I{} - Int<T>(First);
-  RunningTally<T> still;
+  int still = 0;  // the lanes still running
   for (int i = 0; i < count; i += kWidth<T>) {
     const V v = load<V>(l.f + i), t = load<V>(l.t + i), a = abs_lanes<T>(v), lo = load<V>(l.lo + i),
             hi = load<V>(l.hi + i);
@@ -314,9 +303,9 @@ int feed_fixed_lanes(Lanes<T>& l, int count, int step, T fixed_step, T eps_at_0,
     store(l.lo + i, lo_next);
     store(l.hi + i, hi_next);
     store(l.bisecting + i, splits);
-    still.add(code, i, count);
+    still += lanes_set<T>(running_lanes<T>(code, i, count));
   }
-  return still.total();
+  return still;
 }
 
 // The lanes of `v` where `keep` is set, packed to the front in order; the rest zero. AVX-512 has it as one
@@ -347,17 +336,14 @@ I packed(I v, I keep) {
 template <Rule R, bool Secant, class T>
 int compact(Lanes<T>& l, int count, RayRecord<T>* records, int max_steps, SecantRoots<T>& roots) {
   using I = typename Simd<T>::I;
-  I lane{};
-  for (int k = 0; k < kWidth<T>; ++k) lane[k] = k;
-  const auto in_packet = [&](int i) { return lane < count - i; };  // of the vector from lane i
-  const auto running = [&](int i) { return (load<I>(l.code + i) == kRunning) & in_packet(i); };
+  const auto running = [&](int i) { return running_lanes<T>(load<I>(l.code + i), i, count); };
   // Each vector is stored whole, from where the list (or the packed rows below) has got to, at most lane i: the
   // lanes past the end are overwritten next, or never read.
   alignas(64) Int<T> ended[kMaxPacket];
   int done = 0;
   for (int i = 0; i < count; i += kWidth<T>) {
-    const I ends = ~running(i) & in_packet(i);
-    store(ended + done, packed(lane + i, ends));
+    const I ends = ~running(i) & in_packet<T>(i, count);
+    store(ended + done, packed(lane_numbers<T>() + i, ends));
     done += lanes_set<T>(ends);
   }
   for (int e = 0; e < done; ++e) {
@@ -431,18 +417,15 @@ int drop_degenerate(const sdf::Tape& tape, Lanes<T>& l, int n, const PacketRay<T
   using V = typename Simd<T>::V;
   using I = typename Simd<T>::I;
   alignas(64) Int<T> degenerate[kMaxPacket];
-  I lane{}, found{};
-  for (int k = 0; k < kWidth<T>; ++k) lane[k] = k;
+  I found{};
   for (int i = 0; i < n; i += kWidth<T>) {
     const I marchable = detail::marchable_components<T, V>(load<V>(l.ox + i), load<V>(l.oy + i), load<V>(l.oz + i),
                                                            load<V>(l.dx + i), load<V>(l.dy + i), load<V>(l.dz + i));
-    const I bad = ~marchable & (lane < n - i);  // padding is not
+    const I bad = ~marchable & in_packet<T>(i, n);  // padding is not
     store(degenerate + i, bad);
     found |= bad;
   }
-  bool any = false;
-  for (int k = 0; k < kWidth<T>; ++k) any = any || found[k] != 0;
-  if (!any) return n;
+  if (lanes_set<T>(found) == 0) return n;
   int kept = 0;
   for (int i = 0; i < n; ++i) {
     if (degenerate[i] != 0) {
