@@ -211,7 +211,8 @@ TEST(Packet, InvalidSettingsAndRaysEndInvalidAsOneRayAtATime) {
 // (march-packet-fixed-zero-step-forgotten), one cut short at the midpoint it would evaluate next
 // (march-packet-fixed-cut-short-at-mid), a secant step one past max_steps (march-packet-secant-past-last-step),
 // compaction leaving the lanes' next points behind (march-packet-compaction-leaves-points), compaction taking the
-// padding past the packet's last ray for ended rays (march-packet-compaction-ended-past-count).
+// padding past the packet's last ray for ended rays (march-packet-compaction-ended-past-count), the first padding
+// lane counted as one of the packet's rays (march-packet-in-packet-one-past).
 TEST(Packet, LanesEndAsOneRayAtATimeAtTheRulesEdges) {
   const sdf::Tape tape = sdf::compile(sdf::plane({0, 1, 0}, 0));
   const MarchContext c;
