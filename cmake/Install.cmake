@@ -18,7 +18,8 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/marchcheckConfig.cmake ${CMAKE_CURRENT
         DESTINATION ${marchcheck_cmake_dir})
 
 # A Debian package of the same files under /usr (scripts/package.sh builds a portable one and installs it): the
-# Debian packages its libraries load come from dpkg-shlibdeps; GLM for the CMake package's find_dependency.
+# Debian packages its libraries load come from dpkg-shlibdeps; GLM for the CMake package's find_dependency; EGL and
+# OpenGL, which libepoxy loads on first use (dpkg-shlibdeps cannot see them).
 set(CPACK_PACKAGE_NAME marchcheck)
 set(CPACK_PACKAGE_VENDOR marchcheck)
 set(CPACK_PACKAGE_CONTACT "marchcheck developers")
@@ -31,6 +32,6 @@ set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS ${CMAKE_BINARY_DIR}/sdf ${CMAKE_BINARY_DIR}/gpu ${CMAKE_BINARY_DIR}/meshes
     ${CMAKE_BINARY_DIR}/march ${CMAKE_BINARY_DIR}/validation ${CMAKE_BINARY_DIR}/reports ${CMAKE_BINARY_DIR}/commands
     ${CMAKE_BINARY_DIR}/files)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "libglm-dev")
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "libglm-dev, libegl1, libopengl0")
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3-matplotlib, libgtest-dev")
 include(CPack)

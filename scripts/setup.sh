@@ -10,7 +10,8 @@ packages=(
   libsleef-dev  # the march's float transcendentals, vectorised in the batched tape
   nlohmann-json3-dev libcli11-dev libfmt-dev
   glslang-dev glslang-tools spirv-tools spirv-headers  # GLSL fields; the glslang CMake package checks its tools
-  libegl-dev libopengl-dev libgl-dev libgl1-mesa-dri libegl-mesa0  # the GL driver: EGL surfaceless, Mesa llvmpipe
+  libepoxy-dev libegl1 libopengl0 libgl1-mesa-dri libegl-mesa0  # the GL driver: EGL surfaceless, Mesa llvmpipe, through
+  # libepoxy, which loads libEGL and libOpenGL on first use
   python3 python3-matplotlib chromium  # plots and the report's browser test
   clang libclang-rt-dev  # scripts/fuzz.sh: libFuzzer and clang's sanitizer runtimes
   strace  # .ci/run: ../shared/tools/fresh-deps replays the configure step under it

@@ -51,12 +51,13 @@ TEST_F(Cli, ScenesListsEveryBuiltin) {
 }
 
 // Start-up loads none of the libraries only some commands use (Embree, Open MPI, glslang's ~2.5 ms of dynamic
-// loading each, OpenImageIO's 160 ms), nor does a PNG render of a scene without meshes or a sweep outside an MPI
-// launcher: the dynamic loader's own account (LD_DEBUG=files) names each library as it is loaded, and names Embree
-// and OpenImageIO once a mesh scene is rendered to EXR, glslang's module once a GLSL field is. Broken variants: an
-// occluder built for every scene (march-occluder-without-meshes), the MPI module loaded before the launcher is
-// asked for (commands-mpi-loaded-unlaunched), glslang's module loaded with the sdf library
-// (sdf-glslang-module-at-load).
+// loading each, EGL and OpenGL's 1-1.5 ms, OpenImageIO's 160 ms), nor does a PNG render of a scene without meshes or
+// a sweep outside an MPI launcher: the dynamic loader's own account (LD_DEBUG=files) names each library as it is
+// loaded, and names Embree and OpenImageIO once a mesh scene is rendered to EXR, glslang's module once a GLSL field
+// is, EGL once a user's marcher runs on the GL driver. Broken variants: an occluder built for every scene
+// (march-occluder-without-meshes), the MPI module loaded before the launcher is asked for
+// (commands-mpi-loaded-unlaunched), glslang's module loaded with the sdf library (sdf-glslang-module-at-load), the
+// GL driver linked to EGL and OpenGL (gpu-gl-linked).
 TEST_F(Cli, StartUpLoadsNoLibraryOnlySomeCommandsUse) {
   const auto loaded = [](const std::string& args) {
     return run_shell("LD_DEBUG=files " + std::string(MARCHCHECK_BINARY) + " " + args).output;
@@ -67,7 +68,8 @@ TEST_F(Cli, StartUpLoadsNoLibraryOnlySomeCommandsUse) {
     const std::string account = loaded(args);
     ASSERT_NE(account.find("libmarchcheck_march"), std::string::npos) << "the account names what is loaded:\n"
                                                                        << account;
-    for (const char* library : {"libmpi", "libembree", "libOpenImageIO", "libmarchcheck_glslang"})
+    for (const char* library :
+         {"libmpi", "libembree", "libOpenImageIO", "libmarchcheck_glslang", "libEGL", "libOpenGL", "libGLdispatch"})
       EXPECT_EQ(account.find(library), std::string::npos) << library << " loaded by " << args;
   }
   const std::string mesh = loaded("render flafla-occlusion --size 16x9 -o " + path("m.exr"));
@@ -76,6 +78,10 @@ TEST_F(Cli, StartUpLoadsNoLibraryOnlySomeCommandsUse) {
   const std::string glsl = loaded("render " + std::string(MARCHCHECK_EXAMPLES) + "/shadertoy_map.glsl --size 16x9 -o " +
                                   path("g.png"));
   EXPECT_NE(glsl.find("libmarchcheck_glslang"), std::string::npos) << "glslang's module not loaded for GLSL";
+  const std::string driver =
+      loaded("validate " + std::string(MARCHCHECK_TEST_DATA) + "/glsl/user_marcher.glsl --march rayMarch");
+  if (driver.find("no GL driver") != std::string::npos) GTEST_SKIP() << driver;
+  EXPECT_NE(driver.find("libEGL"), std::string::npos) << "EGL not loaded where the GL driver runs";
 }
 
 TEST_F(Cli, RenderWritesTheImageAndTheStats) {
