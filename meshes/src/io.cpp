@@ -1,6 +1,7 @@
 #include "marchcheck/meshes/io.hpp"
 
 #include "marchcheck/files/atomic_file.hpp"
+#include "marchcheck/files/loadable_module.hpp"
 
 #include "marchcheck/meshes/procedural.hpp"
 #include "openmesh_io.hpp"
@@ -161,7 +162,7 @@ Mesh load_mesh(const std::string& path) {
 
   detail::Polygons polygons;
   std::string reason;
-  if (!detail::openmesh_read(path, polygons, reason))
+  if (!detail::openmesh().read(path, polygons, reason))
     fail(path, reason.empty() ? std::string("OpenMesh cannot read it as ") + name_of(format) +
                                     " (malformed or truncated)"
                               : reason);
@@ -199,7 +200,7 @@ void save_mesh(const Mesh& mesh, const std::string& path) {
       std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
       if (!out) throw std::runtime_error("cannot create " + temporary + " (missing folder or no permission?)");
       std::string reason;
-      const bool written = detail::openmesh_write(mesh, format, out, reason);
+      const bool written = detail::openmesh().write(mesh, format, out, reason);
       out.close();  // the last buffer reaches the disk here: its failure counts too
       if (!written || out.fail()) throw std::runtime_error(reason.empty() ? "cannot write " + temporary + " (disk full?)" : reason);
     });
@@ -207,5 +208,15 @@ void save_mesh(const Mesh& mesh, const std::string& path) {
     throw MeshError(e.what());  // "PATH: problem"
   }
 }
+
+namespace detail {
+
+const OpenMeshModule& openmesh() {
+  static const OpenMeshModule& module = files::module_table<OpenMeshModule>(
+      reinterpret_cast<const void*>(&openmesh), "libmarchcheck_openmesh.so", "marchcheck_openmesh_module");
+  return module;
+}
+
+}  // namespace detail
 
 }  // namespace marchcheck::meshes

@@ -188,9 +188,7 @@ const char* extension(Format format) {
   return "";
 }
 
-}  // namespace
-
-bool openmesh_read(const std::string& path, Polygons& out, std::string& reason) {
+bool read(const std::string& path, Polygons& out, std::string& reason) {
   const std::lock_guard lock(openmesh_mutex());
   silence_openmesh();
   out = Polygons{};
@@ -204,7 +202,7 @@ bool openmesh_read(const std::string& path, Polygons& out, std::string& reason) 
   }
 }
 
-bool openmesh_write(const Mesh& mesh, Format format, std::ostream& out, std::string& reason) {
+bool write(const Mesh& mesh, Format format, std::ostream& out, std::string& reason) {
   const std::lock_guard lock(openmesh_mutex());
   silence_openmesh();
   try {
@@ -220,4 +218,11 @@ bool openmesh_write(const Mesh& mesh, Format format, std::ostream& out, std::str
   return false;
 }
 
+constexpr OpenMeshModule kModule{read, write};
+
+}  // namespace
 }  // namespace marchcheck::meshes::detail
+
+extern "C" const marchcheck::meshes::detail::OpenMeshModule* marchcheck_openmesh_module() {
+  return &marchcheck::meshes::detail::kModule;
+}

@@ -1,5 +1,7 @@
 // The only door to OpenMesh: its readers and writers, driven through our own importer and exporter so that a
 // file's vertices and polygons arrive exactly as written (no merging, dropping or splitting of non-manifold faces).
+// In a module of its own, libmarchcheck_openmesh.so, loaded on the first mesh file read or written: linked to the
+// meshes library, OpenMesh's loading and static constructors were 2.5 ms of every command's start-up.
 #pragma once
 
 #include "marchcheck/meshes/mesh.hpp"
@@ -21,10 +23,18 @@ struct Polygons {
   std::vector<std::size_t> offsets{0};
 };
 
-// False with a reason (possibly empty) when OpenMesh rejects the file or throws.
-bool openmesh_read(const std::string& path, Polygons& out, std::string& reason);
+struct OpenMeshModule {
+  // False with a reason (possibly empty) when OpenMesh rejects the file or throws.
+  bool (*read)(const std::string& path, Polygons& out, std::string& reason);
+  // Writes the whole file to out; false with a reason when the writer fails or throws.
+  bool (*write)(const Mesh& mesh, Format format, std::ostream& out, std::string& reason);
+};
 
-// Writes the whole file to out; false with a reason when the writer fails or throws.
-bool openmesh_write(const Mesh& mesh, Format format, std::ostream& out, std::string& reason);
+// The module, loaded from beside libmarchcheck_meshes on first call (thread-safe). Throws std::runtime_error naming
+// the file when it cannot be loaded.
+const OpenMeshModule& openmesh();
 
 }  // namespace marchcheck::meshes::detail
+
+// The module's one entry point.
+extern "C" const marchcheck::meshes::detail::OpenMeshModule* marchcheck_openmesh_module();

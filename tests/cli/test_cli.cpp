@@ -50,14 +50,15 @@ TEST_F(Cli, ScenesListsEveryBuiltin) {
   EXPECT_EQ(run("scenes --json").status, 0);
 }
 
-// Start-up loads none of the libraries only some commands use (Embree, Open MPI, glslang's ~2.5 ms of dynamic
-// loading each, EGL and OpenGL's 1-1.5 ms, OpenImageIO's 160 ms), nor does a PNG render of a scene without meshes or
-// a sweep outside an MPI launcher: the dynamic loader's own account (LD_DEBUG=files) names each library as it is
-// loaded, and names Embree and OpenImageIO once a mesh scene is rendered to EXR, glslang's module once a GLSL field
-// is, EGL once a user's marcher runs on the GL driver. Broken variants: an occluder built for every scene
-// (march-occluder-without-meshes), the MPI module loaded before the launcher is asked for
-// (commands-mpi-loaded-unlaunched), glslang's module loaded with the sdf library (sdf-glslang-module-at-load), the
-// GL driver linked to EGL and OpenGL (gpu-gl-linked).
+// Start-up loads none of the libraries only some commands use (Embree, Open MPI, OpenMesh, glslang's ~2.5 ms of
+// dynamic loading each, EGL and OpenGL's 1-1.5 ms, OpenImageIO's 160 ms), nor does a PNG render of a scene without
+// meshes or a sweep outside an MPI launcher: the dynamic loader's own account (LD_DEBUG=files) names each library as
+// it is loaded, and names Embree and OpenImageIO once a mesh scene is rendered to EXR, OpenMesh once a mesh file is
+// read, glslang's module once a GLSL field is, EGL once a user's marcher runs on the GL driver. Broken variants: an
+// occluder built for every scene (march-occluder-without-meshes), the MPI module loaded before the launcher is asked
+// for (commands-mpi-loaded-unlaunched), glslang's module loaded with the sdf library (sdf-glslang-module-at-load),
+// the GL driver linked to EGL and OpenGL (gpu-gl-linked), OpenMesh's module loaded with the meshes library
+// (meshes-openmesh-at-load).
 TEST_F(Cli, StartUpLoadsNoLibraryOnlySomeCommandsUse) {
   const auto loaded = [](const std::string& args) {
     return run_shell("LD_DEBUG=files " + std::string(MARCHCHECK_BINARY) + " " + args).output;
@@ -68,13 +69,18 @@ TEST_F(Cli, StartUpLoadsNoLibraryOnlySomeCommandsUse) {
     const std::string account = loaded(args);
     ASSERT_NE(account.find("libmarchcheck_march"), std::string::npos) << "the account names what is loaded:\n"
                                                                        << account;
-    for (const char* library :
-         {"libmpi", "libembree", "libOpenImageIO", "libmarchcheck_glslang", "libEGL", "libOpenGL", "libGLdispatch"})
+    for (const char* library : {"libmpi", "libembree", "libOpenImageIO", "libmarchcheck_glslang", "libEGL", "libOpenGL",
+                                "libGLdispatch", "libOpenMesh"})
       EXPECT_EQ(account.find(library), std::string::npos) << library << " loaded by " << args;
   }
   const std::string mesh = loaded("render flafla-occlusion --size 16x9 -o " + path("m.exr"));
   for (const char* library : {"libembree", "libOpenImageIO"})
     EXPECT_NE(mesh.find(library), std::string::npos) << library << " not loaded where it is used";
+  std::ofstream(path("tetra.off")) << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  std::ofstream(path("tetra.json")) << R"({"sdf": {"mesh": "tetra.off"}})";
+  EXPECT_NE(loaded("render " + path("tetra.json") + " --size 16x9 -o " + path("t.png")).find("libOpenMesh"),
+            std::string::npos)
+      << "OpenMesh not loaded where a mesh file is read";
   const std::string glsl = loaded("render " + std::string(MARCHCHECK_EXAMPLES) + "/shadertoy_map.glsl --size 16x9 -o " +
                                   path("g.png"));
   EXPECT_NE(glsl.find("libmarchcheck_glslang"), std::string::npos) << "glslang's module not loaded for GLSL";
