@@ -18,6 +18,10 @@ marchcheck scenes >/dev/null
 scratch=$(mktemp -d)
 # A texture and an EXR: the installed program finds its OpenImageIO module (libmarchcheck_oiio.so) beside its libraries.
 marchcheck render lee-textured --size 32x18 -o "$scratch/textured.exr" >/dev/null
+# A mesh file: its OpenMesh module (libmarchcheck_openmesh.so) too.
+printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' >"$scratch/tetra.off"
+echo '{"sdf": {"mesh": "tetra.off"}}' >"$scratch/tetra.json"
+marchcheck render "$scratch/tetra.json" --size 32x18 -o "$scratch/tetra.png" >/dev/null
 cmake -S tests/consumer -B "$scratch" -G Ninja >/dev/null
 cmake --build "$scratch" >/dev/null
 ctest --test-dir "$scratch" --output-on-failure
