@@ -110,9 +110,10 @@ TEST(Render, FreedMemoryStaysForTheNextRender) {
 // Renders one after another in a process (a sweep, a benchmark) reuse the heap the last one freed: after the
 // second render of lee-flat at 1280x720, four more grow glibc's heap (mallinfo2's arena) by less than one 2 MiB
 // huge page, the slack for small blocks that land between. Aligning each large image with glibc's own aligned
-// allocation grew it by 7 MiB a render here (by 8 MiB a render, 230 MiB after 60, in a loop timing lee-flat),
-// every image on fresh pages whose zeroing by the kernel took 9% of a warm render's time. Skipped under AddressSanitizer, whose allocator replaces glibc's. Broken variant: the
-// image aligned by the allocator (march-pixels-aligned-new).
+// allocation grew it by 7 MiB a render here (a loop of 40 lee-flat renders peaked at 230 MB instead of 45 MB), every
+// image on fresh pages, whose zeroing by the kernel was 9% of a profile of warm renders. Skipped under
+// AddressSanitizer, whose allocator replaces glibc's. Broken variant: the image aligned by the allocator
+// (march-pixels-aligned-new).
 TEST(Render, RendersInARowReuseTheHeap) {
 #if defined(__SANITIZE_ADDRESS__)
   GTEST_SKIP() << "AddressSanitizer's allocator replaces glibc's";
