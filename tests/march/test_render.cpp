@@ -112,8 +112,9 @@ TEST(Render, FreedMemoryStaysForTheNextRender) {
 // huge page, the slack for small blocks that land between. Aligning each large image with glibc's own aligned
 // allocation grew it by 7 MiB a render here (a loop of 40 lee-flat renders peaked at 230 MB instead of 45 MB), every
 // image on fresh pages, whose zeroing by the kernel was 9% of a profile of warm renders. Skipped under
-// AddressSanitizer, whose allocator replaces glibc's. Broken variant: the image aligned by the allocator
-// (march-pixels-aligned-new).
+// AddressSanitizer, whose allocator replaces glibc's. Broken variants: the image aligned by the allocator
+// (march-pixels-aligned-new); freed at its aligned start, not where its allocation began (march-pixels-free-aligned,
+// which glibc aborts on).
 TEST(Render, RendersInARowReuseTheHeap) {
 #if defined(__SANITIZE_ADDRESS__)
   GTEST_SKIP() << "AddressSanitizer's allocator replaces glibc's";
