@@ -23,6 +23,23 @@ for m in "${all[@]}"; do
   fi
 done
 [ "$stale" = 0 ] || exit 2
+# A mutant of code only one instruction set compiles says so in a line "needs: <preprocessor condition>" (as
+# "defined(__AVX512F__)"); where build/'s compiler and flags leave that code out, the mutant would change nothing and
+# survive, so it is set aside, said, and not sampled.
+compiler=$(sed -n 's/^CMAKE_CXX_COMPILER:FILEPATH=//p' build/CMakeCache.txt)
+flags=()
+grep -q '^MARCHCHECK_NATIVE:BOOL=ON' build/CMakeCache.txt && flags=(-march=native)
+compiled_here() {
+  local needs
+  needs=$(sed -n 's/^needs: //p' "$1")
+  [ -z "$needs" ] || printf '#if %s\nyes\n#endif\n' "$needs" | "$compiler" "${flags[@]}" -x c++ -E -P - | grep -qx yes
+}
+here=() elsewhere=()
+for m in "${all[@]}"; do
+  if compiled_here "$m"; then here+=("$m"); else elsewhere+=("${m##*/}"); fi
+done
+((${#elsewhere[@]} == 0)) || echo "mutants: not compiled for this machine's instruction set, set aside: ${elsewhere[*]}"
+all=("${here[@]}")
 picked=()
 if [ "${1:-}" = "--sample" ]; then
   n=${2:?--sample needs a count}
@@ -32,9 +49,12 @@ if [ "${1:-}" = "--sample" ]; then
   stride=$((count / n > 0 ? count / n : 1))
   for ((k = 0; k < n && k < count; ++k)); do picked+=("${all[$(((offset + k * stride) % count))]}"); done
 elif [ $# -gt 0 ]; then
-  picked=("$@")
+  for m in "$@"; do
+    if compiled_here "$m"; then picked+=("$m"); else echo "mutants: ${m##*/} is not compiled here, set aside"; fi
+  done
 else
   picked=("${all[@]}")
 fi
+((${#picked[@]} > 0)) || { echo "mutants: none to run here"; exit 0; }
 echo "mutants: ${#picked[@]} of ${#all[@]}: ${picked[*]##*/}"
 exec "$mutate" -b build "${picked[@]}"
