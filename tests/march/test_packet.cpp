@@ -111,10 +111,15 @@ class EveryBuiltinPacket : public ::testing::TestWithParam<std::string> {};
 // only the plain step where a perturbation is declared (march-packet-perturbation-never-seen), compaction that leaves
 // a vector of running lanes behind where lanes before it ended (march-packet-compaction-vector-left-behind), lanes
 // whose end is stored only where the first lane of their vector ends (march-packet-ended-lanes-unrecorded), running
-// lanes counted in only the low half of a vector (march-packet-lanes-set-half).
+// lanes counted in only the low half of a vector (march-packet-lanes-set-half, on AVX2
+// march-packet-lanes-set-half-avx2), AVX2's compaction reading its table's lane numbers wrongly
+// (march-packet-compress-word-order), and, in double (float64: own and relaxed), keeping half of each lane's words
+// (march-packet-compress-double-half) or a lane's low word twice (march-packet-compress-low-word-twice).
 TEST_P(EveryBuiltinPacket, SameOutcomesStepsEvaluationsNormalsAndShadowsAsOneRayAtATime) {
-  for (const std::string marcher : {"own", "relaxed", "fixed", "secant", "relaxed+secant", "clip", "relaxed+perturbed"}) {
+  for (const std::string marcher : {"own", "relaxed", "fixed", "secant", "relaxed+secant", "clip", "relaxed+perturbed",
+                                    "float64", "relaxed+float64"}) {
     sdf::Scene scene = sdf::builtin_scene(GetParam());
+    if (marcher.ends_with("float64")) scene.march.precision = sdf::Precision::float64;
     if (marcher.ends_with("perturbed")) {
       if (!sdf::derive_info(scene.root, scene.time).perturbation) continue;
       sdf::apply_setting(scene, "step_bound", "perturbed");
