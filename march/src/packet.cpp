@@ -1,5 +1,7 @@
 #include "marchcheck/march/packet.hpp"
 
+#include "marchcheck/sdf/vector_width.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -68,13 +70,7 @@ constexpr int kRunning = -1;  // else the Outcome
 // store. The vectoriser had turned the relaxed marcher's selects into branches around masked stores (its feed cost
 // twice the sphere's per lane), and the fixed marcher's march took 1.7 times as long as it does now. A lane's
 // arithmetic is the scalar marchers', one IEEE operation for one, so the lanes stay bit-identical to them.
-#if defined(__AVX512F__)
-constexpr int kVectorBytes = 64;
-#elif defined(__AVX__)
-constexpr int kVectorBytes = 32;
-#else
-constexpr int kVectorBytes = 16;
-#endif
+using sdf::kVectorBytes;
 template <class T>
 struct Simd;
 template <>
@@ -112,27 +108,34 @@ typename Simd<T>::V abs_lanes(typename Simd<T>::V v) {
   return reinterpret_cast<typename Simd<T>::V>(reinterpret_cast<I>(v) & magnitude);
 }
 
-// How many lanes of a comparison's result are set: a count of the mask's bits where the target has masks, else of
-// the lanes' sign bits (a movemask: counted lane by lane, lee-flat's render took 15% longer on AVX2).
-template <class T>
-int lanes_set(typename Simd<T>::I m) {
+// One bit per lane of a comparison's result, lane k in bit k: the mask itself where the target has mask registers,
+// else the lanes' sign bits (a movemask: read lane by lane, lee-flat's render took 15% longer on AVX2).
+template <class I>
+unsigned lane_mask(I m) {
+  constexpr int kLanes = static_cast<int>(sizeof(I) / sizeof(m[0]));
 #if defined(__AVX512F__)
   const __m512i bits = reinterpret_cast<__m512i>(m);
-  if constexpr (kWidth<T> == 16) return __builtin_popcount(_mm512_test_epi32_mask(bits, bits));
-  else return __builtin_popcount(_mm512_test_epi64_mask(bits, bits));
+  if constexpr (kLanes == 16) return _mm512_test_epi32_mask(bits, bits);
+  else return _mm512_test_epi64_mask(bits, bits);
 #elif defined(__AVX__)
   const __m256i bits = reinterpret_cast<__m256i>(m);
-  if constexpr (kWidth<T> == 8) return __builtin_popcount(_mm256_movemask_ps(_mm256_castsi256_ps(bits)));
-  else return __builtin_popcount(_mm256_movemask_pd(_mm256_castsi256_pd(bits)));
+  if constexpr (kLanes == 8) return _mm256_movemask_ps(_mm256_castsi256_ps(bits));
+  else return _mm256_movemask_pd(_mm256_castsi256_pd(bits));
 #elif defined(__SSE2__)
   const __m128i bits = reinterpret_cast<__m128i>(m);
-  if constexpr (kWidth<T> == 4) return __builtin_popcount(_mm_movemask_ps(_mm_castsi128_ps(bits)));
-  else return __builtin_popcount(_mm_movemask_pd(_mm_castsi128_pd(bits)));
+  if constexpr (kLanes == 4) return _mm_movemask_ps(_mm_castsi128_ps(bits));
+  else return _mm_movemask_pd(_mm_castsi128_pd(bits));
 #else
-  int n = 0;
-  for (int k = 0; k < kWidth<T>; ++k) n -= static_cast<int>(m[k]);
-  return n;
+  unsigned out = 0;
+  for (int k = 0; k < kLanes; ++k) out |= unsigned{m[k] != 0} << k;
+  return out;
 #endif
+}
+
+// How many lanes of a comparison's result are set.
+template <class T>
+int lanes_set(typename Simd<T>::I m) {
+  return __builtin_popcount(lane_mask(m));
 }
 
 // The part of a step every rule shares, detail::Tracker::saw and end, for the kWidth lanes from i: they saw v at t
@@ -345,18 +348,16 @@ I packed(I v, I keep) {
   constexpr int kLanes = static_cast<int>(sizeof(I) / sizeof(v[0]));
 #if defined(__AVX512F__)
   if constexpr (sizeof(I) == 64) {
-    const __m512i bits = reinterpret_cast<__m512i>(v), which = reinterpret_cast<__m512i>(keep);
+    const __m512i bits = reinterpret_cast<__m512i>(v);
     if constexpr (kLanes == 16)
-      return reinterpret_cast<I>(_mm512_maskz_compress_epi32(_mm512_test_epi32_mask(which, which), bits));
+      return reinterpret_cast<I>(_mm512_maskz_compress_epi32(static_cast<__mmask16>(lane_mask(keep)), bits));
     else
-      return reinterpret_cast<I>(_mm512_maskz_compress_epi64(_mm512_test_epi64_mask(which, which), bits));
+      return reinterpret_cast<I>(_mm512_maskz_compress_epi64(static_cast<__mmask8>(lane_mask(keep)), bits));
   }
 #elif defined(__AVX2__)
   if constexpr (sizeof(I) == 32) {
     static constexpr auto kTable = kept_words<kLanes>();
-    const __m256i which = reinterpret_cast<__m256i>(keep);
-    const int mask = kLanes == 8 ? _mm256_movemask_ps(_mm256_castsi256_ps(which))
-                                 : _mm256_movemask_pd(_mm256_castsi256_pd(which));
+    const unsigned mask = lane_mask(keep);
     const __m256i word = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     const __m256i order = _mm256_and_si256(
         _mm256_srlv_epi32(_mm256_set1_epi32(static_cast<int>(kTable[mask])), _mm256_slli_epi32(word, 2)),

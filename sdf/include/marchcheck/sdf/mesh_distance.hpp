@@ -9,6 +9,7 @@
 #include "marchcheck/sdf/node.hpp"
 #include "marchcheck/sdf/scalar.hpp"
 #include "marchcheck/sdf/scene.hpp"
+#include "marchcheck/sdf/vector_width.hpp"
 
 #include <algorithm>
 #include <array>
@@ -240,20 +241,13 @@ inline void leaf_row_distance2(glm::vec<3, S> p, const L& l, std::size_t at, S* 
   std::memcpy(out, &d2sum, sizeof d2sum);
 }
 
-// How many of a leaf's lanes are computed as one vector: a row as wide as the target's vector registers, 64 bytes
-// (16 floats, 8 doubles) at most, as clang 14 cannot split a row of 16 doubles under -frounding-math (a backend
-// crash in the fuzz build). Rows of 64 bytes on AVX2 kept the leaf's values in twice the sixteen registers it has:
-// spilled, the torus's queries ran at 0.18 M/s.
-#if defined(__AVX512F__)
-inline constexpr std::size_t kRowBytes = 64;
-#elif defined(__AVX__)
-inline constexpr std::size_t kRowBytes = 32;
-#else
-inline constexpr std::size_t kRowBytes = 16;
-#endif
+// How many of a leaf's lanes are computed as one vector: a row as wide as the target's vector registers (rows of
+// 64 bytes on AVX2 spilled the leaf's values out of its sixteen registers: 0.18 M queries/s on the torus, against
+// 0.68 M), and at most 64 bytes (16 floats, 8 doubles), as clang 14 cannot split a row of 16 doubles under
+// -frounding-math (a backend crash in the fuzz build).
 template <class S>
 constexpr std::size_t row_lanes(std::size_t lanes) {
-  return std::min(lanes, kRowBytes / sizeof(S));
+  return std::min(lanes, std::size_t{kVectorBytes} / sizeof(S));
 }
 
 // Squared distance from p to each of a leaf's triangles, by closest_on_triangle's arithmetic operation for
